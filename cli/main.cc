@@ -1,8 +1,11 @@
 // mavloc: offline evaluator for visual-inertial localization of micro aerial vehicles.
 // Thin: parses options (CLI11) and calls the libraries.
+#include <glog/logging.h>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <string>
 
@@ -10,6 +13,12 @@
 #include "core/errors.h"
 
 int main(int argc, char** argv) {
+  // Ceres logs every rejected trust-region step ("Step failed to evaluate": a trial pose put a
+  // laser spot behind its laser) as a warning; the smoother reports its own statistics, so only
+  // Ceres' errors are printed unless MAVLOC_CERES_WARNINGS is set.
+  FLAGS_logtostderr = true;
+  FLAGS_minloglevel = std::getenv("MAVLOC_CERES_WARNINGS") ? google::GLOG_INFO : google::GLOG_ERROR;
+  google::InitGoogleLogging(argv[0]);
   CLI::App app{
       "mavloc: evaluate visual-inertial localization of micro aerial vehicles on logged "
       "(EuRoC/ASL)\n"

@@ -32,6 +32,12 @@ struct ImuSensor {
   Pose T_B_S;  // sensor frame in B (identity for EuRoC's imu0)
   double rate_hz = 0.0;
   ImuNoise noise;
+  // Turn-on bias standard deviation per axis, as the dataset states it (sensor.yaml keys
+  // gyroscope_bias_sigma [rad/s] and accelerometer_bias_sigma [m/s^2], a mavloc extension): the
+  // prior a smoother may put on the initial biases. Unset when unknown (real logs); zero when the
+  // biases start at zero (ideal simulated sensors).
+  std::optional<double> gyroscope_bias_sigma;
+  std::optional<double> accelerometer_bias_sigma;
   std::vector<ImuSample> samples;
 };
 

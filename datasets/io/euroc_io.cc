@@ -52,6 +52,15 @@ ImuSensor ReadImu(const fs::path& folder) {
     optional("gyroscope_random_walk", &imu.noise.gyroscope_random_walk);
     optional("accelerometer_noise_density", &imu.noise.accelerometer_noise_density);
     optional("accelerometer_random_walk", &imu.noise.accelerometer_random_walk);
+    auto optional_sigma = [&](const char* key, std::optional<double>* out) {
+      if (!yaml[key]) return;
+      const double sigma = YamlDouble(yaml, key, yaml_path);
+      if (!(sigma >= 0.0))
+        throw InputError(fmt::format("{}: field {} must be >= 0 (got {})", yaml_path, key, sigma));
+      *out = sigma;
+    };
+    optional_sigma("gyroscope_bias_sigma", &imu.gyroscope_bias_sigma);
+    optional_sigma("accelerometer_bias_sigma", &imu.accelerometer_bias_sigma);
   }
   const TextTable table = ReadTextTable((folder / "data.csv").string(), Separator::kComma);
   std::vector<long> lines;
@@ -302,6 +311,10 @@ void WriteImu(const ImuSensor& imu, const fs::path& folder) {
   yaml += "gyroscope_random_walk: " + Num(imu.noise.gyroscope_random_walk) + "\n";
   yaml += "accelerometer_noise_density: " + Num(imu.noise.accelerometer_noise_density) + "\n";
   yaml += "accelerometer_random_walk: " + Num(imu.noise.accelerometer_random_walk) + "\n";
+  if (imu.gyroscope_bias_sigma)
+    yaml += "gyroscope_bias_sigma: " + Num(*imu.gyroscope_bias_sigma) + "\n";
+  if (imu.accelerometer_bias_sigma)
+    yaml += "accelerometer_bias_sigma: " + Num(*imu.accelerometer_bias_sigma) + "\n";
   WriteFileAtomically((folder / "sensor.yaml").string(), yaml);
   std::string csv =
       "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"

@@ -124,6 +124,8 @@ Dataset GenerateThreePointHover(const ScenarioOptions& options) {
   Rng bias_rng(seeds.other);
   imu_options.initial_gyro_bias = bias_rng.Gaussian3(gyro_bias_deg_s * kDeg);
   imu_options.initial_accel_bias = bias_rng.Gaussian3(accel_bias_m_s2);
+  imu_options.gyro_bias_sigma_rad_s = gyro_bias_deg_s * kDeg;
+  imu_options.accel_bias_sigma_m_s2 = accel_bias_m_s2;
   ImuSimulation imu = SimulateImu(*trajectory, imu_options, seeds.imu);
   d.imu = std::move(imu.imu);
   d.ground_truth = std::move(imu.ground_truth);

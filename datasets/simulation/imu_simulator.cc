@@ -17,6 +17,8 @@ ImuSimulationOptions EurocLikeImuOptions(double rate_hz, bool noise, bool bias,
     options.initial_gyro_bias = bias_rng.Gaussian3(0.002);
     options.initial_accel_bias = bias_rng.Gaussian3(0.05);
     options.bias_random_walk = noise;
+    options.gyro_bias_sigma_rad_s = 0.002;
+    options.accel_bias_sigma_m_s2 = 0.05;
   }
   return options;
 }
@@ -28,6 +30,10 @@ ImuSimulation SimulateImu(const Trajectory& trajectory, const ImuSimulationOptio
   out.imu.name = "imu0";
   out.imu.rate_hz = options.rate_hz;
   out.imu.noise = options.noise;
+  out.imu.gyroscope_bias_sigma =
+      options.gyro_bias_sigma_rad_s.value_or(options.initial_gyro_bias.cwiseAbs().maxCoeff());
+  out.imu.accelerometer_bias_sigma =
+      options.accel_bias_sigma_m_s2.value_or(options.initial_accel_bias.cwiseAbs().maxCoeff());
   Rng rng(imu_seed);
   const double dt = 1.0 / options.rate_hz;
   const TimeNs step_ns = SecondsToNs(dt);

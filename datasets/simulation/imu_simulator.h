@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/dataset.h"
@@ -19,6 +20,10 @@ struct ImuSimulationOptions {
   Eigen::Vector3d initial_gyro_bias = Eigen::Vector3d::Zero();
   Eigen::Vector3d initial_accel_bias = Eigen::Vector3d::Zero();
   bool bias_random_walk = false;  // if false the biases stay at their initial values
+  // The turn-on bias standard deviations the dataset states (ImuSensor); unset = the largest
+  // initial bias component (zero for bias-free sensors).
+  std::optional<double> gyro_bias_sigma_rad_s;
+  std::optional<double> accel_bias_sigma_m_s2;
 };
 
 // A EuRoC-like IMU at rate_hz: the ADIS16448 noise densities when `noise`; when `bias`, random

@@ -9,8 +9,16 @@
 //   by a critically damped spring towards height_m, the lateral velocity towards the initial
 //   velocity, the attitude towards the reference attitude (camera looking at the plane);
 //   the lateral position is free.
-// Between knots the acceleration (in W) and the body rate (in B) are constant, so the motion is
-// exact and analytic: p = p_k + v_k tau + a_k tau^2 / 2, v = v_k + a_k tau, q = q_k Exp(w_k tau).
+// This process (constant acceleration in W and body rate in B over each 0.01 s step) has a
+// discontinuous IMU signal: no integrator of the IMU samples can follow it, so a noiseless IMU
+// would drift by centimetres in seconds. The trajectory is therefore the process smoothed: the
+// process is sampled every smoothing_spacing_s and the samples are the control points of uniform
+// quintic B-splines (C^4), for the position p_W(t) and for the attitude relative to the reference,
+// R_W_B(t) = R_W_ref Exp(phi(t)), so that the IMU signal is smooth and analytic:
+//   v_W = p', a_W = p'', w_B = J_r(phi) phi' (d/dt Exp(phi) = Exp(phi) [J_r(phi) phi']x).
+// The curve starts exactly at the initial position and reference attitude (a constant offset and a
+// constant left rotation, which leave the IMU signal unchanged) and at the initial velocity (the
+// control points before the start are moved to make it so).
 #pragma once
 
 #include <Eigen/Core>
@@ -19,6 +27,7 @@
 #include <memory>
 #include <vector>
 
+#include "datasets/simulation/bspline.h"
 #include "datasets/simulation/trajectory.h"
 
 namespace mavloc {
@@ -26,7 +35,8 @@ namespace mavloc {
 struct RandomMotionOptions {
   TimeNs start_ns = 0;
   double duration_s = 60.0;
-  double step_s = 0.01;                                       // knot spacing (100 Hz)
+  double step_s = 0.01;                                       // process step (100 Hz)
+  double smoothing_spacing_s = 0.2;                           // B-spline control point spacing
   Eigen::Quaterniond q_W_P = Eigen::Quaterniond::Identity();  // plane frame P (z = normal)
   Eigen::Vector3d p0_P = Eigen::Vector3d(0.0, 0.0, 1.0);      // initial position in P
   Eigen::Vector3d v0_P = Eigen::Vector3d(1.0, 0.0, 0.0);      // initial (and mean lateral) velocity
@@ -51,14 +61,12 @@ class RandomMotionTrajectory : public Trajectory {
   TrajectorySample At(TimeNs t_ns) const override;
 
  private:
-  struct Knot {
-    Eigen::Vector3d p_W, v_W, a_W, w_B;
-    Eigen::Quaterniond q_W_B;
-  };
   TimeNs start_ns_ = 0;
   TimeNs end_ns_ = 0;
-  TimeNs step_ns_ = 0;
-  std::vector<Knot> knots_;
+  std::unique_ptr<UniformBSpline> position_;  // p_W(t), t in s from start_ns
+  std::unique_ptr<UniformBSpline> rotation_;  // phi(t): R_W_B = R_W_ref Exp(phi)
+  Eigen::Quaterniond q_W_ref_ = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d position_offset_W_ = Eigen::Vector3d::Zero();  // p_W(t) = spline + offset
 };
 
 }  // namespace mavloc

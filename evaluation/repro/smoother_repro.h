@@ -7,7 +7,8 @@
 //   tag-arena-dynamic, tag-arena-hover: tag-pnp (seed), tag-ekf (AprilTag paper's EKF)
 //   marker-board-flight: tag-pnp (seed), pnp and upright-2p (PIXHAWK closed form), pixhawk-kf
 //   three-point-hover: three-point (seed), two-point, gravity-ekf (the paper's filter: roll and
-//     pitch only), and the smoother with accel_bias_prior_m_s2=0.02 (a variant, not judged)
+//     pitch only), and the smoother with the generic bias prior instead of the one imu0 states
+//     (a variant, not judged)
 //   mav-figure-eight: the smoother's built-in landmark-pnp seed; no paper filter applies
 //   laser-plane, euroc-laser (only when the shared EuRoC data exist): laser-ekf (seed and filter)
 //

@@ -114,6 +114,58 @@ std::pair<double, double> TriangleAngles(const Eigen::Vector3d& P1, const Eigen:
           WrapAngle(heading(P2, P3) - heading(P1, P2))};
 }
 
+constexpr double kLooseGyroBiasPriorDegS = 0.5;
+constexpr double kLooseAccelBiasPriorMS2 = 0.1;
+
+void AddStatistics(const SmootherStatistics& from, SmootherStatistics* to) {
+  to->iterations += from.iterations;
+  to->solves += from.solves;
+  to->preintegration_s += from.preintegration_s;
+  to->solve_s += from.solve_s;
+  to->linear_solver_s += from.linear_solver_s;
+  to->residual_evaluation_s += from.residual_evaluation_s;
+  to->jacobian_evaluation_s += from.jacobian_evaluation_s;
+  to->covariance_s += from.covariance_s;
+}
+
+// SolveSmoother, robust to a tight bias prior (a sensor stated bias-free). A tight prior leaves the
+// optimizer no slack to absorb the seed's inconsistency with the precise IMU, and from a poor seed
+// it can stall far from the solution (laser-plane seed 2); a loose prior first, then the tight one
+// from that solution (continuation), can stall too (seed 19). So with `graduated`, both are run
+// and the solution of lower cost (the same objective) is kept; the statistics add up all solves.
+SmootherResult SolveRobustly(const Dataset& dataset, const std::vector<SmootherKeyframe>& initial,
+                             const std::map<int, Eigen::Vector3d>& landmarks,
+                             const std::optional<Plane>& plane,
+                             const SmootherProblemOptions& options, bool graduated) {
+  SmootherProblemOptions loose = options;
+  loose.gyro_bias_prior_rad_s =
+      std::max(options.gyro_bias_prior_rad_s, kLooseGyroBiasPriorDegS * kDeg);
+  loose.accel_bias_prior_m_s2 = std::max(options.accel_bias_prior_m_s2, kLooseAccelBiasPriorMS2);
+  SmootherResult direct = SolveSmoother(dataset, initial, landmarks, plane, options);
+  if (!graduated || (loose.gyro_bias_prior_rad_s == options.gyro_bias_prior_rad_s &&
+                     loose.accel_bias_prior_m_s2 == options.accel_bias_prior_m_s2))
+    return direct;
+  loose.compute_covariance = false;
+  const SmootherResult first = SolveSmoother(dataset, initial, landmarks, plane, loose);
+  if (!first.usable || first.keyframes.size() != initial.size()) {
+    AddStatistics(first.statistics, &direct.statistics);
+    return direct;
+  }
+  std::map<int, Eigen::Vector3d> first_landmarks = landmarks;
+  for (const auto& [id, p] : first.landmarks_W) first_landmarks[id] = p;
+  SmootherResult continued = SolveSmoother(dataset, first.keyframes, first_landmarks,
+                                           first.plane ? first.plane : plane, options);
+  const bool keep_continued =
+      continued.usable &&
+      (!direct.usable || continued.statistics.final_cost < direct.statistics.final_cost);
+  SmootherResult& kept = keep_continued ? continued : direct;
+  const SmootherResult& other = keep_continued ? direct : continued;
+  AddStatistics(first.statistics, &kept.statistics);
+  AddStatistics(other.statistics, &kept.statistics);
+  kept.statistics.initial_cost = direct.statistics.initial_cost;
+  return kept;
+}
+
 }  // namespace
 
 SmootherEstimator::SmootherEstimator(const EstimatorOptions& options) : options_(options) {
@@ -162,8 +214,16 @@ SmootherProblemOptions SmootherEstimator::ProblemOptionsFor(const Dataset& datas
   o.compute_covariance = options_.GetBool("covariance", false);
   o.verbose = options_.GetBool("verbose", false);
   o.relinearize_rounds = options_.GetInt("relinearize", 1);
-  o.gyro_bias_prior_rad_s = options_.GetDouble("gyro_bias_prior_deg_s", 0.5) * kDeg;
-  o.accel_bias_prior_m_s2 = options_.GetDouble("accel_bias_prior_m_s2", 0.1);
+  // Initial-bias prior: what the sensor description states (the papers' filters assume the same
+  // knowledge: bias-free models where the data are bias-free), else a loose generic prior.
+  const double stated_gyro_deg_s = dataset.imu.gyroscope_bias_sigma
+                                       ? std::max(*dataset.imu.gyroscope_bias_sigma / kDeg, 1e-4)
+                                       : kLooseGyroBiasPriorDegS;
+  const double stated_accel_m_s2 = dataset.imu.accelerometer_bias_sigma
+                                       ? std::max(*dataset.imu.accelerometer_bias_sigma, 1e-4)
+                                       : kLooseAccelBiasPriorMS2;
+  o.gyro_bias_prior_rad_s = options_.GetDouble("gyro_bias_prior_deg_s", stated_gyro_deg_s) * kDeg;
+  o.accel_bias_prior_m_s2 = options_.GetDouble("accel_bias_prior_m_s2", stated_accel_m_s2);
   o.landmarks = ResolveLandmarkMode(options_.GetString("landmarks", "auto"), dataset);
   // The three-point world: D as the closed-form solvers get it (map.yaml), unless estimate_D=1.
   if (o.landmarks == LandmarkMode::kUnknownGround && !options_.GetBool("estimate_D", false)) {
@@ -242,7 +302,8 @@ Estimate SmootherEstimator::RunLaserOnly(const Dataset& dataset, const Estimate&
   for (const auto& [reason, count] : init.failures)
     if (reason.find("dropped") != std::string::npos || reason.find("missing") != std::string::npos)
       estimate.failures["init: " + reason] += count;
-  last_result_ = SolveSmoother(dataset, init.keyframes, {}, gauge_plane, problem_options);
+  last_result_ = SolveRobustly(dataset, init.keyframes, {}, gauge_plane, problem_options,
+                               options_.GetBool("graduated", true));
   const SmootherResult& result = last_result_;
   if (!result.usable || !result.plane) {
     estimate.failures["smoother: " +
@@ -276,10 +337,8 @@ Estimate SmootherEstimator::RunFromSeedPoses(const Dataset& dataset,
   const std::vector<TimeNs> times =
       SmootherKeyframeTimes(dataset, options_.GetInt("keyframe_stride", 1));
   const SmootherInitialization init = InitializeFromSeed(dataset, times, seed_poses);
-  // Keyframes where the seed failed are bridged and get a solution; only those before the first
-  // seed pose have none. (Seed failures and unused measurements are not frames without a solution.)
-  for (const auto& [reason, count] : init.failures)
-    if (reason.find("dropped") != std::string::npos) estimate.failures["init: " + reason] += count;
+  // Keyframes where the seed failed are bridged by the IMU (forwards, or backwards before the
+  // first seed pose) and get a solution: seed failures are not frames without a solution.
   std::map<int, Eigen::Vector3d> landmarks;
   if (problem_options.landmarks != LandmarkMode::kKnown)
     landmarks = TriangulateFeatures(dataset, init.keyframes, ground);
@@ -287,7 +346,8 @@ Estimate SmootherEstimator::RunFromSeedPoses(const Dataset& dataset,
   if (problem_options.laser_beam)
     plane = FitLaserPlane(dataset, init.keyframes, *problem_options.laser_beam);
 
-  last_result_ = SolveSmoother(dataset, init.keyframes, landmarks, plane, problem_options);
+  last_result_ = SolveRobustly(dataset, init.keyframes, landmarks, plane, problem_options,
+                               options_.GetBool("graduated", true));
   const SmootherResult& result = last_result_;
   if (!result.usable) {
     estimate.failures["smoother: " +

@@ -27,8 +27,12 @@
 //   landmarks       auto | known | ground | unknown (auto)
 //   estimate_D      0/1: three-point world, estimate the scale D from the IMU instead of taking
 //                   map.yaml's D as the closed-form solvers do (0)
-//   gyro_bias_prior_deg_s, accel_bias_prior_m_s2: zero-mean prior on the first biases (0.5, 0.1)
+//   gyro_bias_prior_deg_s, accel_bias_prior_m_s2: zero-mean prior on the first biases (default:
+//                   the turn-on bias sigmas imu0/sensor.yaml states, floored at 1e-4 deg/s and
+//                   1e-4 m/s^2; else 0.5 deg/s and 0.1 m/s^2)
 //   relinearize     rounds of re-preintegration at the estimated biases (1)
+//   graduated       0/1: with a bias prior tighter than the generic one, also solve with the
+//                   generic prior first and keep the lower-cost of the two solutions (1)
 #pragma once
 
 #include <string>

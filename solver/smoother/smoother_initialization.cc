@@ -10,6 +10,42 @@
 
 namespace mavloc {
 
+namespace {
+
+// The state at t_ns < later.t_ns from the IMU between them, backwards: with the preintegrated
+// dR, dv, dp at zero biases (Forster eq. 33), R_i = R_j dR^T, v_i = v_j - g dt - R_i dv,
+// p_i = p_j - v_i dt - g dt^2 / 2 - R_i dp (exact for the preintegrated measurements).
+SmootherKeyframe PredictBackwards(const std::vector<ImuSample>& imu, const SmootherKeyframe& later,
+                                  TimeNs t_ns) {
+  const ImuPreintegration pre(imu, t_ns, later.t_ns, ImuBiases{}, ImuNoise{});
+  const double dt = pre.dt_s();
+  SmootherKeyframe kf;
+  kf.t_ns = t_ns;
+  kf.state.q_W_B = (later.state.q_W_B * pre.delta_q().conjugate()).normalized();
+  const Eigen::Matrix3d R_i = kf.state.q_W_B.toRotationMatrix();
+  kf.state.v_W = later.state.v_W - GravityW() * dt - R_i * pre.delta_v();
+  kf.state.p_W =
+      later.state.p_W - kf.state.v_W * dt - 0.5 * GravityW() * dt * dt - R_i * pre.delta_p();
+  return kf;
+}
+
+}  // namespace
+
+void BridgeBackwards(const Dataset& dataset, const std::vector<TimeNs>& keyframe_times,
+                     SmootherInitialization* init) {
+  if (init->keyframes.empty()) return;
+  int bridged = 0;
+  for (auto it = keyframe_times.rbegin(); it != keyframe_times.rend(); ++it) {
+    if (*it >= init->keyframes.front().t_ns) continue;
+    init->keyframes.insert(init->keyframes.begin(),
+                           PredictBackwards(dataset.imu.samples, init->keyframes.front(), *it));
+    init->seeded.insert(init->seeded.begin(), false);
+    ++bridged;
+  }
+  if (bridged > 0)
+    init->failures["keyframe before the first seed pose (bridged backwards)"] += bridged;
+}
+
 std::vector<TimeNs> SmootherKeyframeTimes(const Dataset& dataset, int stride) {
   std::vector<TimeNs> times;
   if (dataset.imu.samples.size() < 2) return times;
@@ -101,7 +137,6 @@ SmootherInitialization InitializeFromSeed(const Dataset& dataset,
   const ImuBiases zero_biases;
   int first = 0;
   while (first < n && !seed[first]) ++first;
-  if (first > 0) init.failures["keyframe before the first seed pose (dropped)"] += first;
   for (int k = first; k < n; ++k) {
     std::optional<NavState> predicted;
     if (!init.keyframes.empty()) {
@@ -130,6 +165,7 @@ SmootherInitialization InitializeFromSeed(const Dataset& dataset,
     init.keyframes.push_back(kf);
     init.seeded.push_back(use_seed);
   }
+  BridgeBackwards(dataset, keyframe_times, &init);
   return init;
 }
 
@@ -346,10 +382,7 @@ SmootherInitialization InitializeFromLaserModes(const Dataset& dataset,
     SmootherKeyframe kf;
     kf.t_ns = t;
     if (!row) {
-      if (!predicted) {
-        ++init.failures["keyframe before the first seed pose (dropped)"];
-        continue;
-      }
+      if (!predicted) continue;  // before the first seed: bridged backwards below
       ++init.failures["no seed pose (bridged by IMU prediction)"];
       kf.state.q_W_B = predicted->q_W_B;
       kf.state.p_W = predicted->p_W;
@@ -379,6 +412,7 @@ SmootherInitialization InitializeFromLaserModes(const Dataset& dataset,
     init.keyframes.push_back(kf);
     init.seeded.push_back(true);
   }
+  BridgeBackwards(dataset, keyframe_times, &init);
   return init;
 }
 

@@ -6,7 +6,8 @@
 // - biases: zero;
 // - keyframes where the seed failed (no pose, or a pose further than gate_m from the IMU
 //   prediction) are bridged by IMU prediction (RK4 strapdown, solver/imu/imu_integrator.h) from the
-//   previous keyframe; keyframes before the first seeded one are dropped.
+//   previous keyframe; keyframes before the first seeded one by backward prediction from it
+//   (BridgeBackwards).
 #pragma once
 
 #include <Eigen/Core>
@@ -39,6 +40,12 @@ struct SmootherInitializationOptions {
   double gate_m = 1.0;               // seeds further than this from the IMU prediction are rejected
   double max_difference_window_s = 1.0;  // neighbours used for finite differences
 };
+
+// Prepends the keyframes of keyframe_times before init's first keyframe, each predicted backwards
+// by the IMU (zero biases) from the one after it; counted as failures "keyframe before the first
+// seed pose (bridged backwards)". No-op when init has no keyframe.
+void BridgeBackwards(const Dataset& dataset, const std::vector<TimeNs>& keyframe_times,
+                     SmootherInitialization* init);
 
 SmootherInitialization InitializeFromSeed(const Dataset& dataset,
                                           const std::vector<TimeNs>& keyframe_times,

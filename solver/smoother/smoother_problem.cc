@@ -326,25 +326,37 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
         problem.SetManifold(it->second.data(), &fix_z);
       }
     } else if (unknown_landmarks_used || (use_laser && options.estimate_plane)) {
-      // Free landmarks, or the laser spot on an unknown plane (which observes only the distance to
-      // the plane, the velocity along its normal and the attitude relative to it, RR-7906 eq. 7):
-      // the first keyframe's position and yaw define the frame (strong prior at the seed); for the
-      // laser the velocity along the plane is unobservable too (symmetries w3, w4 of appendix B)
-      // and is held near the seed by a prior on the first velocity.
+      // Free landmarks, or the laser spot on an unknown plane: the first keyframe's position and
+      // its yaw (rotation about gravity) define the frame (strong prior at the seed).
       const ImuKeyframeState s0 = FromBlocks(blocks[0]);
+      const Eigen::Matrix3d R0_T = s0.q_W_B.toRotationMatrix().transpose();
       Eigen::Matrix<double, 6, 6> L = Eigen::Matrix<double, 6, 6>::Zero();
-      L.block<1, 3>(0, 0) = 1e6 * (s0.q_W_B.conjugate() * Eigen::Vector3d::UnitZ()).transpose();
+      const Eigen::Vector3d yaw_axis_B = R0_T * Eigen::Vector3d::UnitZ();
+      L.block<1, 3>(0, 0) = 1e6 * yaw_axis_B.transpose();
       L.block<3, 3>(3, 3) = 1e6 * Eigen::Matrix3d::Identity();
-      problem.AddResidualBlock(PosePriorFactor::Create(Pose(s0.q_W_B, s0.p_W), L), nullptr,
-                               blocks[0].q.data(), blocks[0].p.data());
-      if (use_laser) {
-        // Only the velocity parallel to the plane (its normal at the start) is unobservable.
+      if (use_laser && !unknown_landmarks_used) {
+        // The laser spot observes only the distance to the plane, the velocity along its normal,
+        // the attitude relative to it and the plane's inclination alpha (RR-7906, eq. 7 and
+        // appendix B). Besides the position (with d) and the velocity along the plane, two
+        // rotations are unobservable: about gravity (yaw), and about the plane normal n together
+        // with the constant acceleration a = g - R g along the plane (R the rotation), which the
+        // unobservable motion along the plane absorbs: a . n = g . n - g . R^T n = 0, so the
+        // spots do not change, and R_i dv_ij = v_j - v_i - (R g + a) dt holds as before. Fix the
+        // component of the first rotation about n too (when n is not vertical: about a vertical
+        // normal the two rotations coincide).
         const Eigen::Vector3d n_plane = Eigen::Vector3d(plane_n.data()).normalized();
+        Eigen::Vector3d about_normal_B = R0_T * n_plane;
+        about_normal_B -= about_normal_B.dot(yaw_axis_B) * yaw_axis_B;
+        if (about_normal_B.norm() > std::sin(1.0 * M_PI / 180.0))
+          L.block<1, 3>(1, 0) = 1e6 * about_normal_B.normalized().transpose();
+        // The velocity along the plane (symmetries w3, w4 of appendix B): held near the seed.
         const Eigen::Matrix3d L_v =
             (Eigen::Matrix3d::Identity() - n_plane * n_plane.transpose()) / 0.1;
         problem.AddResidualBlock(VectorPriorFactor::Create(s0.v_W, L_v), nullptr,
                                  blocks[0].v.data());
       }
+      problem.AddResidualBlock(PosePriorFactor::Create(Pose(s0.q_W_B, s0.p_W), L), nullptr,
+                               blocks[0].q.data(), blocks[0].p.data());
     }
 
     ceres::Solver::Options solver_options;

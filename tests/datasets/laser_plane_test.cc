@@ -27,8 +27,9 @@ TEST(RandomMotionTrajectory, DerivativesAreAnalytic) {
   RandomMotionOptions options;
   options.duration_s = 5.0;
   const RandomMotionTrajectory trajectory(options, 3);
-  // Inside a knot interval (constant a, w) the samples are exact derivatives of each other.
-  for (const TimeNs t : {options.start_ns + 1'234'567'000LL, options.start_ns + 3'005'000'000LL}) {
+  // The samples are exact derivatives of each other (inside and across the spline's knots).
+  for (const TimeNs t : {options.start_ns + 1'234'567'000LL, options.start_ns + 3'005'000'000LL,
+                         options.start_ns + 2'000'000'000LL}) {
     const double h = 1e-4;
     const TrajectorySample s = trajectory.At(t);
     const TrajectorySample plus = trajectory.At(t + SecondsToNs(h));
@@ -38,10 +39,18 @@ TEST(RandomMotionTrajectory, DerivativesAreAnalytic) {
     const Eigen::Vector3d w_numeric = LogQuaternion(minus.q_W_B.conjugate() * plus.q_W_B) / (2 * h);
     EXPECT_LT((w_numeric - s.w_B).norm(), 1e-6);
   }
-  // Continuity across knots.
+  // The IMU signal is continuous across knots (the process underneath changes its acceleration
+  // and body rate every 0.01 s; the smoothed trajectory does not jump).
   const TimeNs knot = options.start_ns + 2'000'000'000LL;
-  EXPECT_LT((trajectory.At(knot - 1).p_W - trajectory.At(knot).p_W).norm(), 1e-8);
-  EXPECT_LT((trajectory.At(knot - 1).v_W - trajectory.At(knot).v_W).norm(), 1e-7);
+  EXPECT_LT((trajectory.At(knot - 1).a_W - trajectory.At(knot).a_W).norm(), 1e-6);
+  EXPECT_LT((trajectory.At(knot - 1).w_B - trajectory.At(knot).w_B).norm(), 1e-6);
+  const TimeNs process_step = options.start_ns + 2'005'000'000LL;
+  EXPECT_LT((trajectory.At(process_step - 1).a_W - trajectory.At(process_step).a_W).norm(), 1e-6);
+  // It starts where the options say.
+  const TrajectorySample start = trajectory.At(options.start_ns);
+  EXPECT_LT((start.p_W - options.p0_P).norm(), 1e-12);
+  EXPECT_LT(RotationAngleBetween(start.q_W_B, options.q_P_B_ref), 1e-12);
+  EXPECT_LT((start.v_W - options.v0_P).norm(), 1e-12);
 }
 
 TEST(LaserPlane, SameSeedSameData) {

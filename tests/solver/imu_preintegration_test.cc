@@ -10,59 +10,24 @@
 #include "core/pose.h"
 #include "core/random.h"
 #include "core/rotation.h"
+#include "tests/analytic_motion.h"
 #include "tests/test_support.h"
 
 namespace mavloc {
 namespace {
 
-// An analytic smooth motion: Euler angles and position are sums of sines.
-struct AnalyticMotion {
-  static EulerRpy Angles(double t) {
-    return {0.3 * std::sin(1.1 * t), 0.2 * std::sin(0.7 * t + 0.5),
-            0.8 * std::sin(0.4 * t) + 0.3 * t};
-  }
-  static EulerRpy AngleRates(double t) {
-    return {0.33 * std::cos(1.1 * t), 0.14 * std::cos(0.7 * t + 0.5),
-            0.32 * std::cos(0.4 * t) + 0.3};
-  }
-  static Eigen::Vector3d Position(double t) {
-    return {2.0 * std::sin(0.5 * t), 1.5 * std::sin(0.8 * t), 1.0 + 0.3 * std::sin(1.2 * t)};
-  }
-  static Eigen::Vector3d Velocity(double t) {
-    return {1.0 * std::cos(0.5 * t), 1.2 * std::cos(0.8 * t), 0.36 * std::cos(1.2 * t)};
-  }
-  static Eigen::Vector3d Acceleration(double t) {
-    return {-0.5 * std::sin(0.5 * t), -0.96 * std::sin(0.8 * t), -0.432 * std::sin(1.2 * t)};
-  }
-  // Body rates of R = Rz(yaw) Ry(pitch) Rx(roll).
-  static Eigen::Vector3d AngularVelocityB(double t) {
-    const EulerRpy a = Angles(t), r = AngleRates(t);
-    const double sr = std::sin(a.roll), cr = std::cos(a.roll);
-    const double sp = std::sin(a.pitch), cp = std::cos(a.pitch);
-    return {r.roll - r.yaw * sp, r.pitch * cr + r.yaw * cp * sr, -r.pitch * sr + r.yaw * cp * cr};
-  }
-  static ImuKeyframeState State(double t) {
-    ImuKeyframeState s;
-    s.q_W_B = QuaternionFromEuler(Angles(t));
-    s.p_W = Position(t);
-    s.v_W = Velocity(t);
-    return s;
-  }
-};
+using testing::AnalyticMotion;
+
+ImuKeyframeState StateAt(double t) {
+  ImuKeyframeState s;
+  s.q_W_B = QuaternionFromEuler(AnalyticMotion::Angles(t));
+  s.p_W = AnalyticMotion::Position(t);
+  s.v_W = AnalyticMotion::Velocity(t);
+  return s;
+}
 
 std::vector<ImuSample> SimulateSamples(double rate_hz, double duration_s, const ImuBiases& biases) {
-  std::vector<ImuSample> samples;
-  const int n = static_cast<int>(std::round(duration_s * rate_hz));
-  for (int k = 0; k <= n; ++k) {
-    const double t = k / rate_hz;
-    ImuSample s;
-    s.t_ns = SecondsToNs(t);
-    const Eigen::Matrix3d R_W_B = RotationFromEuler(AnalyticMotion::Angles(t));
-    s.gyro_rad_s = AnalyticMotion::AngularVelocityB(t) + biases.b_g;
-    s.accel_m_s2 = R_W_B.transpose() * (AnalyticMotion::Acceleration(t) - GravityW()) + biases.b_a;
-    samples.push_back(s);
-  }
-  return samples;
+  return testing::SimulateAnalyticImu(rate_hz, duration_s, biases);
 }
 
 ImuNoise TestNoise() {
@@ -149,10 +114,10 @@ TEST(ImuPreintegration, NoiselessPredictionFollowsTheTrajectory) {
          {std::pair{0.2037, 0.3037}, std::pair{1.0, 2.0}, std::pair{0.5, 5.5}}) {
       const ImuPreintegration pre(samples, SecondsToNs(t_i_s), SecondsToNs(t_j_s), biases,
                                   ImuNoise{});
-      ImuKeyframeState state_i = AnalyticMotion::State(t_i_s);
+      ImuKeyframeState state_i = StateAt(t_i_s);
       state_i.biases = biases;
       const ImuKeyframeState predicted = pre.Predict(state_i);
-      const ImuKeyframeState truth = AnalyticMotion::State(t_j_s);
+      const ImuKeyframeState truth = StateAt(t_j_s);
       const double horizon = t_j_s - t_i_s;
       SCOPED_TRACE(::testing::Message() << rate_hz << " Hz, " << t_i_s << " .. " << t_j_s << " s");
       EXPECT_LT(RotationAngleBetween(predicted.q_W_B, truth.q_W_B), 1e-8 * horizon);
