@@ -67,6 +67,8 @@ ImuSensor ImuFromGroundTruth(const std::vector<GroundTruthState>& truth) {
   imu.rate_hz = 200.0;
   imu.noise.gyroscope_noise_density = 1e-4;
   imu.noise.accelerometer_noise_density = 5e-3;
+  imu.gyroscope_bias_sigma = 0.0;  // derived from the truth: no bias
+  imu.accelerometer_bias_sigma = 0.0;
   for (size_t i = kHalf; i + kHalf < truth.size(); ++i) {
     const double dt1 = NsToSeconds(truth[i + 1].t_ns - truth[i - 1].t_ns);
     const Eigen::Quaterniond dq = truth[i - 1].T_W_B.q.conjugate() * truth[i + 1].T_W_B.q;

@@ -346,8 +346,12 @@ Estimate SmootherEstimator::RunFromSeedPoses(const Dataset& dataset,
   if (problem_options.laser_beam)
     plane = FitLaserPlane(dataset, init.keyframes, *problem_options.laser_beam);
 
-  last_result_ = SolveRobustly(dataset, init.keyframes, landmarks, plane, problem_options,
-                               options_.GetBool("graduated", true));
+  // Known map points (tags, surveyed landmarks) anchor every keyframe: one solve. Unknown
+  // landmarks leave weak directions (scale, tilt vs bias) where the restart may be needed.
+  const bool anchored = HasMapTags(dataset) || problem_options.landmarks == LandmarkMode::kKnown;
+  const bool graduated = options_.GetBool("graduated", true) && !anchored;
+  last_result_ =
+      SolveRobustly(dataset, init.keyframes, landmarks, plane, problem_options, graduated);
   const SmootherResult& result = last_result_;
   if (!result.usable) {
     estimate.failures["smoother: " +

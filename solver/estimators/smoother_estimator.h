@@ -31,8 +31,9 @@
 //                   the turn-on bias sigmas imu0/sensor.yaml states, floored at 1e-4 deg/s and
 //                   1e-4 m/s^2; else 0.5 deg/s and 0.1 m/s^2)
 //   relinearize     rounds of re-preintegration at the estimated biases (1)
-//   graduated       0/1: with a bias prior tighter than the generic one, also solve with the
-//                   generic prior first and keep the lower-cost of the two solutions (1)
+//   graduated       0/1: with a bias prior tighter than the generic one and no known map points
+//                   (laser, unknown landmarks), also solve with the generic prior first and keep
+//                   the lower-cost of the two solutions (1)
 #pragma once
 
 #include <string>
