@@ -94,6 +94,7 @@ Dataset SmallDataset() {
   Dataset d;
   d.imu.rate_hz = 100;
   d.imu.noise = {1e-3, 1e-4, 1e-2, 1e-3};
+  d.imu.gyroscope_bias_sigma = 0.002;
   for (int i = 0; i < 5; ++i)
     d.imu.samples.push_back(
         {1000 + i * 10'000'000, Eigen::Vector3d(0.1 * i, 0.2, 0.3), Eigen::Vector3d(0, 0, 9.81)});
@@ -138,6 +139,9 @@ TEST(EurocWriter, RoundTrip) {
   EXPECT_EQ(out.imu.samples[3].t_ns, in.imu.samples[3].t_ns);
   EXPECT_TRUE(out.imu.samples[3].gyro_rad_s.isApprox(in.imu.samples[3].gyro_rad_s));
   EXPECT_DOUBLE_EQ(out.imu.noise.gyroscope_random_walk, 1e-4);
+  // The turn-on bias sigmas (mavloc's sensor.yaml keys) round-trip, and stay unset when absent.
+  EXPECT_EQ(out.imu.gyroscope_bias_sigma, std::optional<double>(0.002));
+  EXPECT_EQ(out.imu.accelerometer_bias_sigma, std::nullopt);
   ASSERT_EQ(out.ground_truth.size(), 1u);
   EXPECT_TRUE(out.ground_truth[0].T_W_B.p.isApprox(in.ground_truth[0].T_W_B.p));
   EXPECT_TRUE(out.ground_truth[0].T_W_B.q.isApprox(in.ground_truth[0].T_W_B.q));
@@ -247,6 +251,14 @@ TEST(EurocReaderBadInput, MissingFolders) {
             std::string::npos);
   const std::string dir = testing::MakeTempDir();
   EXPECT_NE(ErrorOf(dir).find("no mav0/ folder"), std::string::npos);
+}
+
+TEST(EurocReaderBadInput, NegativeBiasSigma) {
+  const std::string dir = WriteImuCsv("1,0,0,0,0,0,9.81\n");
+  std::ofstream(dir + "/mav0/imu0/sensor.yaml") << "rate_hz: 200\naccelerometer_bias_sigma: -0.1\n";
+  const std::string error = ErrorOf(dir);
+  EXPECT_NE(error.find("imu0/sensor.yaml"), std::string::npos) << error;
+  EXPECT_NE(error.find("accelerometer_bias_sigma must be >= 0"), std::string::npos) << error;
 }
 
 TEST(EurocReaderBadInput, BadSensorYamlField) {

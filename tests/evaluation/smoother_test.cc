@@ -166,6 +166,22 @@ TEST(SmootherNoiseless, UnknownGroundFeaturesThreePointEstimatesD) {
               1e-6);
 }
 
+// The prior on the first biases is the turn-on bias sigma imu0/sensor.yaml states (floored), the
+// generic one when unstated, and the option when given.
+TEST(SmootherOptions, BiasPriorFollowsTheSensorDescription) {
+  constexpr double kDeg = M_PI / 180.0;
+  Dataset dataset;
+  const SmootherEstimator plain{EstimatorOptions()};
+  EXPECT_NEAR(plain.ProblemOptionsFor(dataset).gyro_bias_prior_rad_s, 0.5 * kDeg, 1e-15);
+  EXPECT_NEAR(plain.ProblemOptionsFor(dataset).accel_bias_prior_m_s2, 0.1, 1e-15);
+  dataset.imu.gyroscope_bias_sigma = 0.0;
+  dataset.imu.accelerometer_bias_sigma = 0.05;
+  EXPECT_NEAR(plain.ProblemOptionsFor(dataset).gyro_bias_prior_rad_s, 1e-4 * kDeg, 1e-15);
+  EXPECT_NEAR(plain.ProblemOptionsFor(dataset).accel_bias_prior_m_s2, 0.05, 1e-15);
+  const SmootherEstimator given{Options({{"accel_bias_prior_m_s2", "0.3"}})};
+  EXPECT_NEAR(given.ProblemOptionsFor(dataset).accel_bias_prior_m_s2, 0.3, 1e-15);
+}
+
 // Laser spot on an unknown plane (laser-plane, noiseless, no bias): seeded by the paper's EKF
 // (errors of a degree), the smoother returns the truth of every observable quantity (RR-7906 eq.
 // 7: distance, normal velocity, roll and pitch relative to the plane, inclination alpha). The
