@@ -7,7 +7,6 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
-#include <numbers>
 #include <vector>
 
 #include "core/random.h"
@@ -19,8 +18,6 @@
 
 namespace mavloc {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 struct Instance {
   ThreePointInput input;  // start roll/pitch perturbed by up to 3 deg

@@ -8,8 +8,12 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <numbers>
 
 namespace mavloc {
+
+// Radians per degree (x * kDeg: degrees to radians; x / kDeg: radians to degrees).
+inline constexpr double kDeg = std::numbers::pi / 180.0;
 
 // Roll, pitch, yaw in radians.
 struct EulerRpy {

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <numbers>
 #include <set>
 
 #include "core/errors.h"
@@ -22,7 +21,6 @@ namespace {
 
 constexpr const char* kName = "euroc-laser";
 constexpr const char* kRelativeData = "../shared/data/euroc_v1_01_easy";
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 void RejectUnknownSettings(const ScenarioOptions& options) {
   static const std::set<std::string> kKnown = {

@@ -15,8 +15,6 @@ namespace mavloc {
 
 namespace {
 
-constexpr TimeNs kStartNs = 1'000'000'000'000;  // 1000 s: positive, EuRoC-like stamps
-
 std::map<int, Eigen::Vector3d> RoomLandmarks(int count, Rng& rng) {
   // Walls at x, y = +-4 m, 0..3 m high, and the floor z = 0.
   std::map<int, Eigen::Vector3d> landmarks;
@@ -78,8 +76,8 @@ Dataset GenerateFigureEight(const ScenarioOptions& options) {
     wp.yaw_rad = std::atan2(v.y(), v.x());
     waypoints.push_back(wp);
   }
-  const auto trajectory =
-      SplineTrajectory::FromWaypoints(kStartNs, waypoints, AttitudeMode::kQuadrotor, step_s);
+  const auto trajectory = SplineTrajectory::FromWaypoints(kScenarioStartNs, waypoints,
+                                                          AttitudeMode::kQuadrotor, step_s);
 
   Dataset d;
   d.scenario = "mav-figure-eight";
@@ -87,16 +85,12 @@ Dataset GenerateFigureEight(const ScenarioOptions& options) {
 
   const ImuSimulationOptions imu_options =
       EurocLikeImuOptions(imu_rate_hz, imu_noise, bias, seeds.other);
-  ImuSimulation imu = SimulateImu(*trajectory, imu_options, seeds.imu);
-  d.imu = std::move(imu.imu);
-  d.ground_truth = std::move(imu.ground_truth);
+  AddSimulatedImu(*trajectory, imu_options, seeds.imu, &d);
 
   CameraSensor cam0;
   cam0.name = "cam0";
   cam0.rate_hz = camera_rate_hz;
-  cam0.model = CameraModel(752, 480, Eigen::Vector4d(458.654, 457.296, 367.215, 248.375),
-                           DistortionModel::kRadialTangential,
-                           {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05});
+  cam0.model = EurocCam0Model();
   // Camera looks forward along x_B, tilted 20 deg down: z_C = cos20 x_B - sin20 z_B.
   const double tilt = 20.0 * M_PI / 180.0;
   Eigen::Matrix3d R_B_C;

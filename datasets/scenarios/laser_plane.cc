@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <set>
 
 #include "core/errors.h"
@@ -19,8 +18,6 @@ namespace mavloc {
 namespace {
 
 constexpr const char* kName = "laser-plane";
-constexpr TimeNs kStartNs = 1'000'000'000'000;  // 1000 s: positive, EuRoC-like stamps
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 void RejectUnknownSettings(const ScenarioOptions& options) {
   static const std::set<std::string> kKnown = {"alpha_deg",          "L",
@@ -145,7 +142,7 @@ Dataset GenerateLaserPlane(const ScenarioOptions& options) {
   const Eigen::Matrix3d R_P_B_ref = Rz(yaw) * Rx(M_PI) * Rx(tilt_roll) * Ry(tilt_pitch);
 
   RandomMotionOptions motion;
-  motion.start_ns = kStartNs;
+  motion.start_ns = kScenarioStartNs;
   motion.duration_s = duration_s;
   motion.q_W_P = Eigen::Quaterniond(R_W_P);
   motion.p0_P = Eigen::Vector3d(0.0, 0.0, distance_m);
@@ -167,9 +164,7 @@ Dataset GenerateLaserPlane(const ScenarioOptions& options) {
     imu_options.initial_gyro_bias = Eigen::Vector3d::Constant(gyro_bias_deg_s * kDeg);
     imu_options.initial_accel_bias = Eigen::Vector3d::Constant(accel_bias_m_s2);
   }
-  ImuSimulation imu = SimulateImu(trajectory, imu_options, seeds.imu);
-  d.imu = std::move(imu.imu);
-  d.ground_truth = std::move(imu.ground_truth);
+  AddSimulatedImu(trajectory, imu_options, seeds.imu, &d);
 
   CameraSensor cam0;
   cam0.name = "cam0";

@@ -17,9 +17,6 @@ namespace mavloc {
 
 namespace {
 
-constexpr TimeNs kStartNs = 1'000'000'000'000;  // 1000 s: positive, EuRoC-like stamps
-constexpr double kDegToRad = M_PI / 180.0;
-
 void Require(bool condition, const std::string& message) {
   if (!condition) throw InputError("scenario marker-board-flight: " + message);
 }
@@ -123,13 +120,13 @@ Dataset GenerateMarkerBoardFlight(const ScenarioOptions& options) {
   const SimulationSeeds seeds = SimulationSeeds::FromMaster(options.seed);
 
   std::vector<Waypoint> waypoints =
-      FlightWaypoints(altitude_m, speed_m_s, yaw_start_deg * kDegToRad, yaw_end_deg * kDegToRad);
+      FlightWaypoints(altitude_m, speed_m_s, yaw_start_deg * kDeg, yaw_end_deg * kDeg);
   if (options.duration_s) {
     Require(*options.duration_s >= 1.0, "--duration must be >= 1 s");
     waypoints = TruncateWaypoints(waypoints, *options.duration_s);
   }
   const auto trajectory =
-      SplineTrajectory::FromWaypoints(kStartNs, waypoints, AttitudeMode::kQuadrotor, 0.5);
+      SplineTrajectory::FromWaypoints(kScenarioStartNs, waypoints, AttitudeMode::kQuadrotor, 0.5);
 
   Dataset d;
   d.scenario = "marker-board-flight";
@@ -137,9 +134,7 @@ Dataset GenerateMarkerBoardFlight(const ScenarioOptions& options) {
 
   const ImuSimulationOptions imu_options =
       EurocLikeImuOptions(imu_rate_hz, imu_noise, bias, seeds.other);
-  ImuSimulation imu = SimulateImu(*trajectory, imu_options, seeds.imu);
-  d.imu = std::move(imu.imu);
-  d.ground_truth = std::move(imu.ground_truth);
+  AddSimulatedImu(*trajectory, imu_options, seeds.imu, &d);
 
   // The marker board: a grid over the flight area plus a margin.
   int next_id = 0;

@@ -38,4 +38,10 @@ const ScenarioEntry* FindScenario(const std::string& name) {
 
 std::string DefaultScenarioName() { return "mav-figure-eight"; }
 
+CameraModel EurocCam0Model() {
+  return CameraModel(752, 480, Eigen::Vector4d(458.654, 457.296, 367.215, 248.375),
+                     DistortionModel::kRadialTangential,
+                     {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05});
+}
+
 }  // namespace mavloc

@@ -12,8 +12,12 @@
 #include <vector>
 
 #include "core/dataset.h"
+#include "core/time.h"
 
 namespace mavloc {
+
+// Start time of every simulated scenario: 1000 s, positive EuRoC-like stamps.
+inline constexpr TimeNs kScenarioStartNs = 1'000'000'000'000;
 
 struct ScenarioOptions {
   uint64_t seed = 1;
@@ -46,5 +50,9 @@ const std::vector<ScenarioEntry>& ScenarioRegistry();
 const ScenarioEntry* FindScenario(const std::string& name);
 // The scenario `mavloc compare` runs with no arguments.
 std::string DefaultScenarioName();
+
+// The EuRoC MAV cam0 (752 x 480, its intrinsics and radial-tangential distortion), shared by the
+// scenarios that simulate a EuRoC-like camera.
+CameraModel EurocCam0Model();
 
 }  // namespace mavloc

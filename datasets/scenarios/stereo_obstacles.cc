@@ -20,7 +20,6 @@
 namespace mavloc {
 namespace {
 
-constexpr TimeNs kStartNs = 1'000'000'000'000;  // 1000 s: positive, EuRoC-like stamps
 constexpr double kImuRateHz = 200.0;
 constexpr double kBaselineM = 0.05;
 constexpr double kFocalPx = 645.0;
@@ -212,9 +211,10 @@ Dataset GenerateStereoObstacles(const ScenarioOptions& options) {
       w.yaw_rad = std::atan2(direction.y(), direction.x());
       waypoints.push_back(w);
     }
-    return SplineTrajectory::FromWaypoints(kStartNs, waypoints, AttitudeMode::kQuadrotor);
+    return SplineTrajectory::FromWaypoints(kScenarioStartNs, waypoints, AttitudeMode::kQuadrotor);
   };
-  const double rest_s = NsToSeconds(make_trajectory(duration_s)->end_ns() - kStartNs) - duration_s;
+  const double rest_s =
+      NsToSeconds(make_trajectory(duration_s)->end_ns() - kScenarioStartNs) - duration_s;
   const auto trajectory = make_trajectory(std::max(2.0, duration_s - rest_s));
 
   Dataset d;
@@ -227,9 +227,7 @@ Dataset GenerateStereoObstacles(const ScenarioOptions& options) {
     imu_options.noise = {3.3937e-4, 3.8785e-5, 4.0e-3, 6.0e-3};  // ADIS16448 (RotorS)
     imu_options.bias_random_walk = true;
   }
-  ImuSimulation imu = SimulateImu(*trajectory, imu_options, seeds.imu);
-  d.imu = std::move(imu.imu);
-  d.ground_truth = std::move(imu.ground_truth);
+  AddSimulatedImu(*trajectory, imu_options, seeds.imu, &d);
 
   // The room, with each obstacle placed at its gap from the true path (sampled at 100 Hz).
   std::vector<Eigen::Vector3d> path_W;

@@ -22,7 +22,6 @@ namespace mavloc {
 
 namespace {
 
-constexpr TimeNs kStartNs = 1'000'000'000'000;  // 1000 s: positive, EuRoC-like stamps
 constexpr double kTagSizeM = 0.20;
 constexpr double kImuRateHz = 100.0;
 constexpr double kCameraRateHz = 10.0;
@@ -131,9 +130,7 @@ Dataset BuildArena(const std::string& scenario, const ScenarioOptions& options,
     imu_options.noise = {3.3937e-4, 3.8785e-5, 4.0e-3, 6.0e-3};
     imu_options.bias_random_walk = true;
   }
-  ImuSimulation imu = SimulateImu(trajectory, imu_options, seeds.imu);
-  d.imu = std::move(imu.imu);
-  d.ground_truth = std::move(imu.ground_truth);
+  AddSimulatedImu(trajectory, imu_options, seeds.imu, &d);
 
   CameraSensor cam0 = TagArenaCamera(kCameraRateHz);
   for (const TimeNs t : CameraFrameTimes(trajectory, kCameraRateHz, settings.camera_offset_s))
@@ -202,9 +199,7 @@ CameraSensor TagArenaCamera(double rate_hz) {
   CameraSensor cam0;
   cam0.name = "cam0";
   cam0.rate_hz = rate_hz;
-  cam0.model = CameraModel(752, 480, Eigen::Vector4d(458.654, 457.296, 367.215, 248.375),
-                           DistortionModel::kRadialTangential,
-                           {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05});
+  cam0.model = EurocCam0Model();
   // Down-looking: x_C = -y_B (image right = vehicle right), y_C = -x_B, z_C = -z_B.
   Eigen::Matrix3d R_B_C;
   R_B_C << 0, -1, 0, -1, 0, 0, 0, 0, -1;
@@ -255,7 +250,8 @@ Dataset GenerateTagArenaHover(const ScenarioOptions& options) {
   Waypoint b = a;
   b.t_s = duration_s;
   const TrimmedTrajectory trajectory(
-      SplineTrajectory::FromWaypoints(kStartNs, {a, b}, AttitudeMode::kQuadrotor), duration_s);
+      SplineTrajectory::FromWaypoints(kScenarioStartNs, {a, b}, AttitudeMode::kQuadrotor),
+      duration_s);
   return BuildArena(name, options, trajectory, settings,
                     fmt::format("stabilized hover at (0.35, 0.35, {}) m, yaw 0.3 rad", height),
                     "perturbed");
@@ -306,7 +302,7 @@ Dataset GenerateTagArenaDynamic(const ScenarioOptions& options) {
   const Waypoint last = waypoints.back();
   add(duration_s, last.p_W.x(), last.p_W.y(), height, last.yaw_rad);  // hold to the end
   const TrimmedTrajectory trajectory(
-      SplineTrajectory::FromWaypoints(kStartNs, waypoints, AttitudeMode::kQuadrotor, 0.5),
+      SplineTrajectory::FromWaypoints(kScenarioStartNs, waypoints, AttitudeMode::kQuadrotor, 0.5),
       duration_s);
   return BuildArena(
       name, options, trajectory, settings,

@@ -3,11 +3,11 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <numbers>
 #include <set>
 
 #include "core/errors.h"
 #include "core/random.h"
+#include "core/rotation.h"
 #include "datasets/simulation/camera_simulator.h"
 #include "datasets/simulation/imu_simulator.h"
 #include "datasets/simulation/spline_trajectory.h"
@@ -17,8 +17,6 @@ namespace mavloc {
 namespace {
 
 constexpr const char* kName = "three-point-hover";
-constexpr TimeNs kStartNs = 1'000'000'000'000;  // 1000 s: positive, EuRoC-like stamps
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 void RejectUnknownSettings(const ScenarioOptions& options) {
   static const std::set<std::string> kKnown = {"D",
@@ -111,7 +109,7 @@ Dataset GenerateThreePointHover(const ScenarioOptions& options) {
   waypoints[2] = {move_end_s, goal, goal_yaw_deg * kDeg};
   waypoints[3] = {duration_s, goal, goal_yaw_deg * kDeg};
   const auto trajectory =
-      SplineTrajectory::FromWaypoints(kStartNs, waypoints, AttitudeMode::kQuadrotor);
+      SplineTrajectory::FromWaypoints(kScenarioStartNs, waypoints, AttitudeMode::kQuadrotor);
 
   Dataset d;
   d.scenario = kName;
@@ -126,9 +124,7 @@ Dataset GenerateThreePointHover(const ScenarioOptions& options) {
   imu_options.initial_accel_bias = bias_rng.Gaussian3(accel_bias_m_s2);
   imu_options.gyro_bias_sigma_rad_s = gyro_bias_deg_s * kDeg;
   imu_options.accel_bias_sigma_m_s2 = accel_bias_m_s2;
-  ImuSimulation imu = SimulateImu(*trajectory, imu_options, seeds.imu);
-  d.imu = std::move(imu.imu);
-  d.ground_truth = std::move(imu.ground_truth);
+  AddSimulatedImu(*trajectory, imu_options, seeds.imu, &d);
 
   CameraSensor cam0 = DownLookingCamera(camera_period_s);
   d.map.landmarks_W = {{1, P1}, {2, P2}, {3, P3}};

@@ -69,4 +69,11 @@ ImuSimulation SimulateImu(const Trajectory& trajectory, const ImuSimulationOptio
   return out;
 }
 
+void AddSimulatedImu(const Trajectory& trajectory, const ImuSimulationOptions& options,
+                     uint64_t imu_seed, Dataset* dataset) {
+  ImuSimulation simulation = SimulateImu(trajectory, options, imu_seed);
+  dataset->imu = std::move(simulation.imu);
+  dataset->ground_truth = std::move(simulation.ground_truth);
+}
+
 }  // namespace mavloc

@@ -40,4 +40,8 @@ struct ImuSimulation {
 ImuSimulation SimulateImu(const Trajectory& trajectory, const ImuSimulationOptions& options,
                           uint64_t imu_seed);
 
+// SimulateImu into a dataset: its imu0 stream and its ground truth.
+void AddSimulatedImu(const Trajectory& trajectory, const ImuSimulationOptions& options,
+                     uint64_t imu_seed, Dataset* dataset);
+
 }  // namespace mavloc

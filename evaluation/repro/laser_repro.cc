@@ -7,7 +7,6 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <set>
 #include <string>
 #include <vector>
@@ -15,6 +14,7 @@
 #include "core/errors.h"
 #include "core/key_values.h"
 #include "core/progress.h"
+#include "core/rotation.h"
 #include "datasets/scenarios/euroc_laser.h"
 #include "datasets/scenarios/laser_plane.h"
 #include "evaluation/quantity_errors.h"
@@ -25,7 +25,6 @@ namespace mavloc {
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kDefaultRuns = 20;
 const std::vector<std::string> kQuantities = {"alpha", "pitch", "roll", "v_o", "d"};

@@ -9,7 +9,6 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -18,6 +17,7 @@
 #include "core/errors.h"
 #include "core/key_values.h"
 #include "core/progress.h"
+#include "core/rotation.h"
 #include "datasets/scenarios/euroc_laser.h"
 #include "datasets/scenarios/scenario.h"
 #include "evaluation/association.h"
@@ -29,7 +29,6 @@ namespace mavloc {
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kDefaultRuns = 20;
 constexpr double kEarlyWindowS = 10.0;

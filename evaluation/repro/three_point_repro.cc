@@ -10,7 +10,6 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -31,7 +30,6 @@ namespace {
 
 using Settings = std::map<std::string, std::string>;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kDefaultRuns = 20;
 const std::vector<std::string> kColumns = {"x", "y", "z", "roll", "pitch", "yaw"};

@@ -5,6 +5,7 @@
 
 #include "core/errors.h"
 #include "core/random.h"
+#include "core/rotation.h"
 #include "solver/laser/laser_calibration.h"
 #include "solver/laser/laser_spot_model.h"
 
@@ -12,7 +13,6 @@ namespace mavloc {
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 const char* const kLaserKeys[4] = {"laser_Lx", "laser_Ly", "laser_theta", "laser_phi"};
 
 LaserCalibration CalibrationFromMap(const WorldMap& map) {

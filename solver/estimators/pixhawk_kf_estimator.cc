@@ -9,9 +9,7 @@
 
 namespace mavloc {
 
-namespace {
-constexpr double kDegToRad = M_PI / 180.0;
-}
+namespace {}
 
 PixhawkKfEstimator::PixhawkKfEstimator(const EstimatorOptions& options)
     : options_(options), upright_(ParseUpright2pSettings(options)) {
@@ -19,10 +17,10 @@ PixhawkKfEstimator::PixhawkKfEstimator(const EstimatorOptions& options)
   source_ = options.GetString("source", "upright-2p");
   if (source_ != "upright-2p" && source_ != "pnp")
     throw InputError("option 'source=" + source_ + "': expected upright-2p or pnp");
-  attitude_check_rad_ = options.GetDouble("attitude_check_deg", 5.0) * kDegToRad;
+  attitude_check_rad_ = options.GetDouble("attitude_check_deg", 5.0) * kDeg;
   use_measured_dt_ = options.GetBool("use_measured_dt", true);
   kf_.position_sigma_m = options.GetDouble("position_sigma_m", kf_.position_sigma_m);
-  kf_.yaw_sigma_rad = options.GetDouble("yaw_sigma_deg", kf_.yaw_sigma_rad / kDegToRad) * kDegToRad;
+  kf_.yaw_sigma_rad = options.GetDouble("yaw_sigma_deg", kf_.yaw_sigma_rad / kDeg) * kDeg;
   kf_.position_accel_density =
       options.GetDouble("position_accel_density", kf_.position_accel_density);
   kf_.yaw_accel_density = options.GetDouble("yaw_accel_density", kf_.yaw_accel_density);

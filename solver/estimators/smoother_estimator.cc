@@ -12,8 +12,6 @@ namespace mavloc {
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-
 // The leading number of a scenario.yaml value ("1 per bearing angle (...)" -> 1).
 std::optional<double> ScenarioNumber(const Dataset& dataset, const std::string& key) {
   auto it = dataset.scenario_info.find(key);
@@ -300,8 +298,7 @@ Estimate SmootherEstimator::RunLaserOnly(const Dataset& dataset, const Estimate&
   const SmootherInitialization init =
       InitializeFromLaserModes(dataset, times, seed_estimate.quantities, &gauge_plane);
   for (const auto& [reason, count] : init.failures)
-    if (reason.find("dropped") != std::string::npos || reason.find("missing") != std::string::npos)
-      estimate.failures["init: " + reason] += count;
+    if (reason.find("missing") != std::string::npos) estimate.failures["init: " + reason] += count;
   last_result_ = SolveRobustly(dataset, init.keyframes, {}, gauge_plane, problem_options,
                                options_.GetBool("graduated", true));
   const SmootherResult& result = last_result_;

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <string>
 
+#include "core/rotation.h"
 #include "solver/estimators/gravity_ekf_estimator.h"
 #include "solver/estimators/two_point_estimator.h"
 #include "solver/three_point/three_point.h"
@@ -12,9 +13,7 @@
 
 namespace mavloc {
 
-namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
-}  // namespace
+namespace {}  // namespace
 
 ThreePointEstimator::ThreePointEstimator(const EstimatorOptions& options) : options_(options) {
   // Reject malformed options early.

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "core/rotation.h"
 #include "core/tag_geometry.h"
 #include "solver/smoother/residuals/bias_random_walk_factor.h"
 #include "solver/smoother/residuals/feature_bearing_factor.h"
@@ -347,7 +348,7 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
         const Eigen::Vector3d n_plane = Eigen::Vector3d(plane_n.data()).normalized();
         Eigen::Vector3d about_normal_B = R0_T * n_plane;
         about_normal_B -= about_normal_B.dot(yaw_axis_B) * yaw_axis_B;
-        if (about_normal_B.norm() > std::sin(1.0 * M_PI / 180.0))
+        if (about_normal_B.norm() > std::sin(1.0 * kDeg))
           L.block<1, 3>(1, 0) = 1e6 * about_normal_B.normalized().transpose();
         // The velocity along the plane (symmetries w3, w4 of appendix B): held near the seed.
         const Eigen::Matrix3d L_v =

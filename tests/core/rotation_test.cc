@@ -10,8 +10,6 @@
 namespace mavloc {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-
 TEST(Euler, KnownValues) {
   // Pure yaw of 90 deg maps x_B onto y_W.
   const Eigen::Matrix3d R = RotationFromEuler({0.0, 0.0, 90 * kDeg});

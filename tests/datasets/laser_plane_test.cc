@@ -14,8 +14,6 @@
 namespace mavloc {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-
 ScenarioOptions Options(uint64_t seed, double duration_s = 30.0) {
   ScenarioOptions options;
   options.seed = seed;

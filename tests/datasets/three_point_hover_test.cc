@@ -7,7 +7,6 @@
 
 #include <cmath>
 #include <map>
-#include <numbers>
 
 #include "core/errors.h"
 #include "core/rotation.h"
@@ -15,8 +14,6 @@
 
 namespace mavloc {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 const GroundTruthState& TruthAt(const Dataset& d, TimeNs t_ns) {
   for (const auto& s : d.ground_truth)

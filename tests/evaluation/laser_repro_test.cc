@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/errors.h"
+#include "core/rotation.h"
 #include "datasets/scenarios/euroc_laser.h"
 #include "datasets/scenarios/laser_plane.h"
 #include "evaluation/quantity_errors.h"
@@ -18,8 +19,6 @@
 
 namespace mavloc {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 // Mean |error| of each quantity over the last quarter of the run.
 std::map<std::string, double> LateErrors(const Estimate& estimate, const Dataset& dataset) {

@@ -169,7 +169,6 @@ TEST(SmootherNoiseless, UnknownGroundFeaturesThreePointEstimatesD) {
 // The prior on the first biases is the turn-on bias sigma imu0/sensor.yaml states (floored), the
 // generic one when unstated, and the option when given.
 TEST(SmootherOptions, BiasPriorFollowsTheSensorDescription) {
-  constexpr double kDeg = M_PI / 180.0;
   Dataset dataset;
   const SmootherEstimator plain{EstimatorOptions()};
   EXPECT_NEAR(plain.ProblemOptionsFor(dataset).gyro_bias_prior_rad_s, 0.5 * kDeg, 1e-15);

@@ -10,17 +10,15 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <numbers>
 
 #include "core/errors.h"
+#include "core/rotation.h"
 #include "datasets/scenarios/three_point_hover.h"
 #include "evaluation/comparison.h"
 #include "tests/test_support.h"
 
 namespace mavloc {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 Dataset Hover(uint64_t seed, std::map<std::string, std::string> settings = {}) {
   ScenarioOptions options;

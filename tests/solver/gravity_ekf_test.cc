@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 
 #include "core/random.h"
 #include "core/rotation.h"
@@ -14,7 +13,6 @@
 namespace mavloc {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kDt = 0.01;  // 100 Hz, as in the paper's simulation
 
 // The paper's IMU: sigma_gyro = 1 deg/s and sigma_acc = 0.01 m/s^2 per sample at 100 Hz.

@@ -11,8 +11,6 @@
 namespace mavloc {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-
 TEST(LaserCalibration, PaperValuesGiveL0100) {
   // Section 5.3: theta = 47.1 deg, phi = -3.1 deg, Lx = -0.146 m, Ly = -0.005 m -> L = 0.100 m.
   const LaserCalibration paper{-0.146, -0.005, 47.1 * kDeg, -3.1 * kDeg};

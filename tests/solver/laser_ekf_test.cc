@@ -15,8 +15,6 @@
 namespace mavloc {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-
 LaserState RandomModes(Rng& rng) {
   LaserState m;
   const double tilt = rng.Uniform(0.0, 0.8), heading = rng.Uniform(-M_PI, M_PI);

@@ -8,7 +8,6 @@
 #include <Eigen/SVD>
 
 #include <cmath>
-#include <numbers>
 
 #include "core/random.h"
 #include "core/rotation.h"
@@ -16,8 +15,6 @@
 
 namespace mavloc {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 Pose DownLookingCamera() {
   return Pose(Eigen::Matrix3d(Eigen::Vector3d(1, -1, -1).asDiagonal()), Eigen::Vector3d::Zero());

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 
 #include "core/random.h"
 #include "core/rotation.h"
@@ -14,8 +13,6 @@
 
 namespace mavloc {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 struct Scene {
   EulerRpy rpy;

@@ -15,8 +15,6 @@
 namespace mavloc {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
 // A camera looking down along -z_B: x_C = x_B, y_C = -y_B, z_C = -z_B.
 Pose DownLookingCamera(const Eigen::Vector3d& p_B_C = Eigen::Vector3d::Zero()) {
   return Pose(Eigen::Matrix3d(Eigen::Vector3d(1, -1, -1).asDiagonal()), p_B_C);
