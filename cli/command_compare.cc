@@ -1,7 +1,9 @@
 // mavloc compare: run every applicable estimator on a dataset or a simulated scenario, print one
 // table and write a report folder (report.md, report.json, errors.csv).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "cli/commands.h"
 #include "cli/common.h"
@@ -20,7 +22,7 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       "With no arguments: the default scenario, every applicable estimator, report in "
       "./mavloc_report");
   struct Args {
-    std::string scenario, dataset, estimators, report = "mavloc_report", align = "none";
+    std::string scenario, dataset, estimators, report = "mavloc_report", align = "none", reference;
     uint64_t seed = 1;
     double duration_s = 0.0, max_dt_s = 0.02;
     std::vector<std::string> settings, options;
@@ -43,6 +45,10 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
   command->add_option("--align", args->align, "ATE alignment: none, se3, sim3 or posyaw")
       ->check(CLI::IsMember({"none", "se3", "sim3", "posyaw"}))
       ->capture_default_str();
+  command->add_option("--reference", args->reference,
+                      "Compare against this estimator's output or this trajectory file (TUM or "
+                      "EuRoC CSV) instead of the ground truth: for logs without ground truth. The "
+                      "reference is an estimate, not a truth");
   command->add_option("--max-dt", args->max_dt_s, "Association tolerance in seconds")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -59,8 +65,19 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       dataset = SimulateScenario(args->scenario.empty() ? DefaultScenarioName() : args->scenario,
                                  options);
     }
-    if (dataset.ground_truth.empty() && dataset.truth_quantities.empty())
-      throw InputError(args->dataset, 0, "", "dataset has no ground truth to compare against");
+    if (args->reference.empty() && dataset.ground_truth.empty() && dataset.truth_quantities.empty())
+      throw InputError(args->dataset, 0, "",
+                       "dataset has no ground truth to compare against: name a reference with "
+                       "--reference ESTIMATOR (e.g. smoother) or --reference TRAJECTORY_FILE");
+    const bool reference_is_estimator =
+        !args->reference.empty() && FindEstimator(args->reference) != nullptr;
+    std::optional<ComparisonReference> reference;
+    if (!args->reference.empty() && !reference_is_estimator) {
+      if (!std::filesystem::exists(args->reference))
+        throw InputError(args->reference, 0, "--reference",
+                         "neither an estimator name (see `mavloc list`) nor an existing file");
+      reference = ReferenceFromTrajectory(args->reference, ReadTrajectoryFile(args->reference));
+    }
 
     // Estimator options: "name:key=value" for one estimator, "key=value" for all.
     std::map<std::string, EstimatorOptions> per_estimator;
@@ -87,6 +104,10 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
     } else {
       for (const auto& entry : EstimatorRegistry()) names.push_back(entry.name);
     }
+    if (reference_is_estimator) {  // the reference runs first, whether listed or not
+      names.erase(std::remove(names.begin(), names.end(), args->reference), names.end());
+      names.insert(names.begin(), args->reference);
+    }
 
     EvaluationOptions evaluation_options;
     evaluation_options.align = *ParseAlignmentMode(args->align);
@@ -98,8 +119,20 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
         if (!options.Has(k)) options.Set(k, v);
       ReportProgress("compare",
                      std::to_string(i + 1) + "/" + std::to_string(names.size()) + " " + names[i]);
+      evaluation_options.reference = reference ? &*reference : nullptr;
       EstimatorEvaluation evaluation =
           RunAndEvaluate(names[i], options, dataset, evaluation_options);
+      if (reference_is_estimator && i == 0) {
+        if (!evaluation.ran)
+          throw InputError("reference estimator '" + names[0] +
+                           "' does not apply to this dataset: " + evaluation.skipped_reason);
+        if (evaluation.estimate.quantities.empty() && evaluation.estimate.poses.empty())
+          throw InputError("reference estimator '" + names[0] + "' returned no estimate");
+        reference = ReferenceFromEstimate(names[0], evaluation.estimate);
+        evaluation.quantity_errors.clear();
+        evaluation.ate.reset();
+        evaluation.is_reference = true;
+      }
       if (!evaluation.ran && !explicit_list)
         continue;  // not applicable: left out of the default table
       evaluations.push_back(std::move(evaluation));
@@ -108,8 +141,14 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
 
     const std::string title = dataset.scenario.empty() ? dataset.name : dataset.scenario;
     const std::string table = ComparisonMarkdownTable(evaluations);
-    std::printf("mavloc compare on %s (mean absolute error per quantity; ATE alignment %s)\n\n%s",
-                title.c_str(), args->align.c_str(), table.c_str());
+    const std::string against =
+        reference ? "the reference " + reference->Describe() +
+                        ", an estimate, not a truth: the numbers are differences, not errors"
+                  : "the ground truth";
+    std::printf(
+        "mavloc compare on %s against %s (mean absolute %s per quantity; ATE alignment %s)\n\n%s",
+        title.c_str(), against.c_str(), reference ? "difference" : "error", args->align.c_str(),
+        table.c_str());
 
     ReportFiles files;
     files.json["dataset"] = dataset.root.empty() ? dataset.name : dataset.root;
@@ -123,9 +162,29 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       for (const auto& [k, v] : dataset.scenario_info) files.markdown += k + " = " + v + "; ";
       files.markdown += "\n\n";
     }
-    files.markdown += "Mean absolute error per quantity (angles in degrees), ATE RMSE after `" +
-                      args->align +
-                      "` alignment, wall-clock runtime, and frames without a solution.\n\n" + table;
+    if (reference) {
+      files.json["reference"] = {
+          {"kind", reference->kind == ComparisonReference::Kind::kEstimator ? "estimator"
+                                                                            : "trajectory_file"},
+          {"name", reference->name},
+          {"is_truth", false}};
+      files.markdown += "**Reference: " + reference->Describe() +
+                        ". The reference is an estimate, not a ground truth**: every number "
+                        "below is a difference between two estimates, and a small difference "
+                        "does not prove either accurate. The reprojection RMS of the tag corners "
+                        "(when the dataset has tags) is the measure that needs no truth.\n\n";
+      files.markdown +=
+          "Mean absolute difference to the reference per quantity (angles in "
+          "degrees), ATE RMSE to the reference after `" +
+          args->align +
+          "` alignment, wall-clock runtime, frames without a solution, and the "
+          "reprojection RMS of the tag corners per camera.\n\n" +
+          table;
+    } else {
+      files.markdown +=
+          "Mean absolute error per quantity (angles in degrees), ATE RMSE after `" + args->align +
+          "` alignment, wall-clock runtime, and frames without a solution.\n\n" + table;
+    }
     files.extra["errors.csv"] = ErrorsCsv(evaluations);
     WriteReportFolder(args->report, files);
     std::printf("\nreport written to %s/ (report.md, report.json, errors.csv)\n",

@@ -16,6 +16,7 @@ void RegisterRepro(CLI::App& app, int* exit_code);
 void RegisterObservability(CLI::App& app, int* exit_code);
 void RegisterDetectTags(CLI::App& app, int* exit_code);
 void RegisterObstacles(CLI::App& app, int* exit_code);
+void RegisterImportAprilgrid(CLI::App& app, int* exit_code);
 
 // Parses "key=value" items (from repeated --set / --option flags) into a map; throws InputError.
 std::map<std::string, std::string> ParseKeyValues(const std::vector<std::string>& items,

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   mavloc::cli::RegisterObservability(app, &exit_code);
   mavloc::cli::RegisterDetectTags(app, &exit_code);
   mavloc::cli::RegisterObstacles(app, &exit_code);
+  mavloc::cli::RegisterImportAprilgrid(app, &exit_code);
   // An unknown first word is named in the message (CLI11 would only say a command is required).
   const auto subcommands = app.get_subcommands({});
   const bool known_command =

@@ -68,12 +68,14 @@ struct LaserObservation {
   Eigen::Vector2d xy = Eigen::Vector2d::Zero();
 };
 
-// tags0: the 4 corners of a tag in pixels of cam0 (distorted, as detected), in the order of
-// libapriltag (counter-clockwise in the image starting bottom-left of the tag's own frame).
+// tags0 / tags1: the 4 corners of a tag in pixels of cam0 / cam1 (distorted, as detected), in the
+// order of libapriltag (counter-clockwise in the image starting bottom-left of the tag's own
+// frame).
 struct TagObservation {
   TimeNs t_ns = 0;
   int tag_id = 0;
   std::array<Eigen::Vector2d, 4> corners_px{};
+  int camera = 0;  // index into Dataset::cameras: 0 for tags0, 1 for tags1
 };
 
 struct TagInfo {
@@ -88,8 +90,17 @@ struct Plane {
   double d_m = 0.0;
 };
 
-// map.yaml: what the world is known to contain.
+// The frame the map's coordinates are given in (map.yaml key `frame`).
+enum class MapFrame {
+  kWorld,  // W: z up, gravity (0, 0, -9.81) (surveyed maps, simulated worlds)
+  kBoard,  // M: a calibration board or a tag map surveyed without gravity. The gravity direction
+           // in M is unknown (2 DoF); estimators estimate or initialise T_W_M (core/board_frame.h).
+};
+
+// map.yaml: what the world is known to contain. Positions and poses (landmarks_W, TagInfo::T_W_T,
+// plane) are in W, or in the board frame M when frame == kBoard.
 struct WorldMap {
+  MapFrame frame = MapFrame::kWorld;
   std::map<int, Eigen::Vector3d> landmarks_W;  // landmark id -> position
   std::map<int, TagInfo> tags;
   std::optional<Plane> plane;
@@ -106,7 +117,8 @@ struct Dataset {
   std::vector<GroundTruthState> ground_truth;
   std::vector<FeatureObservation> features;
   std::vector<LaserObservation> laser;
-  std::vector<TagObservation> tags;
+  std::vector<TagObservation> tags;   // tags0: cam0 (camera = 0)
+  std::vector<TagObservation> tags1;  // tags1: cam1 (camera = 1), stereo rigs
   WorldMap map;
   QuantityTable truth_quantities;  // extra ground-truth quantities (may be empty)
   // scenario.yaml as flat key -> value text (seed, rates, noises, ...), for reports.

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "core/errors.h"
+#include "core/rotation.h"
 #include "evaluation/association.h"
 #include "evaluation/report_writer.h"
 
@@ -42,7 +43,25 @@ EstimatorEvaluation EvaluateEstimate(const std::string& estimator_name, Estimate
   evaluation.estimator = estimator_name;
   evaluation.ran = true;
   evaluation.estimate = std::move(estimate);
+  evaluation.reprojection = ComputeTagReprojection(dataset, evaluation.estimate);
   const QuantityTable& q = evaluation.estimate.quantities;
+  if (options.reference) {
+    // Against a reference estimate: the quantities both provide, and the ATE to its poses.
+    const ComparisonReference& reference = *options.reference;
+    if (reference.kind == ComparisonReference::Kind::kEstimator &&
+        reference.name == estimator_name) {
+      evaluation.is_reference = true;
+      return evaluation;
+    }
+    evaluation.quantity_errors =
+        ComputeQuantityErrors(q, reference.quantities, options.max_dt_s, options.quantities);
+    if (!evaluation.estimate.poses.empty() && !reference.poses.empty()) {
+      const auto pairs =
+          AssociatePoses(evaluation.estimate.poses, reference.poses, options.max_dt_s);
+      if (!pairs.empty()) evaluation.ate = ComputeAte(pairs, options.align);
+    }
+    return evaluation;
+  }
   // The dataset's extra truth quantities come first: where they name a quantity (the laser
   // paper's roll and pitch are the camera's attitude relative to the plane, not the vehicle's),
   // they define it. The remaining names are compared with the ground-truth states.
@@ -125,6 +144,40 @@ nlohmann::json EvaluationToJson(const EstimatorEvaluation& evaluation) {
                 {"align", AlignmentModeName(a.align)},
                 {"unit", "m"}};
   }
+  if (evaluation.is_reference) j["reference"] = true;
+  if (!evaluation.reprojection.empty()) {
+    nlohmann::json reprojection = nlohmann::json::object();
+    for (const auto& r : evaluation.reprojection)
+      reprojection[r.camera] = {{"rms_px", r.rms_px},     {"median_px", r.median_px},
+                                {"max_px", r.max_px},     {"corners", r.corners},
+                                {"over_3px", r.over_3px}, {"unmatched", r.unmatched}};
+    j["reprojection"] = reprojection;
+  }
+  if (!evaluation.estimate.parameters.empty()) {
+    nlohmann::json parameters = nlohmann::json::object();
+    for (const auto& [name, p] : evaluation.estimate.parameters) {
+      const double scale = ReportScale(p.unit);
+      nlohmann::json entry = {{"value", p.value * scale}, {"unit", ReportUnit(p.unit)}};
+      if (p.sigma) entry["sigma"] = *p.sigma * scale;
+      parameters[name] = entry;
+    }
+    j["parameters"] = parameters;
+  }
+  if (!evaluation.estimate.extrinsics.empty()) {
+    nlohmann::json extrinsics = nlohmann::json::object();
+    for (const auto& [camera, e] : evaluation.estimate.extrinsics) {
+      const auto& q = e.T_B_C.q;
+      nlohmann::json entry = {{"p_B_C_m", {e.T_B_C.p.x(), e.T_B_C.p.y(), e.T_B_C.p.z()}},
+                              {"q_B_C_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
+      if (e.covariance) {
+        const Eigen::Matrix<double, 6, 1> sigma = e.covariance->diagonal().cwiseSqrt();
+        entry["sigma_p_m"] = {sigma[0], sigma[1], sigma[2]};
+        entry["sigma_rotation_deg"] = {sigma[3] / kDeg, sigma[4] / kDeg, sigma[5] / kDeg};
+      }
+      extrinsics[camera] = entry;
+    }
+    j["extrinsics"] = extrinsics;
+  }
   j["runtime_s"] = evaluation.runtime_s;
   if (!evaluation.estimate.failures.empty()) j["failures"] = evaluation.estimate.failures;
   return j;
@@ -139,23 +192,37 @@ std::string ComparisonMarkdownTable(const std::vector<EstimatorEvaluation>& eval
       if (const auto* s = FindSeries(e, name)) unit = ReportUnit(s->unit);
     header.push_back(name + " [" + unit + "]");
   }
+  bool any_reprojection = false;
+  for (const auto& e : evaluations) any_reprojection = any_reprojection || !e.reprojection.empty();
   header.insert(header.end(), {"ATE rmse [m]", "runtime [s]", "no solution"});
+  if (any_reprojection) header.push_back("reprojection rms [px]");
   std::vector<std::vector<std::string>> rows;
   for (const auto& e : evaluations) {
     std::vector<std::string> row = {e.estimator};
     if (!e.ran) {
-      for (size_t k = 0; k < names.size() + 3; ++k)
+      for (size_t k = 0; k < header.size() - 1; ++k)
         row.push_back(k == 0 ? "skipped: " + e.skipped_reason : "");
       rows.push_back(row);
       continue;
     }
     for (const auto& name : names) {
       const auto* s = FindSeries(e, name);
-      row.push_back(s ? FormatNumber(s->mean_abs * ReportScale(s->unit), 4) : "-");
+      if (e.is_reference)
+        row.push_back("reference");
+      else
+        row.push_back(s ? FormatNumber(s->mean_abs * ReportScale(s->unit), 4) : "-");
     }
-    row.push_back(e.ate ? FormatNumber(e.ate->translation_m.rmse, 4) : "-");
+    row.push_back(e.is_reference ? "reference"
+                  : e.ate        ? FormatNumber(e.ate->translation_m.rmse, 4)
+                                 : "-");
     row.push_back(FormatNumber(e.runtime_s, 3));
     row.push_back(std::to_string(e.estimate.FailureCount()));
+    if (any_reprojection) {
+      std::string cell;
+      for (const auto& r : e.reprojection)
+        cell += (cell.empty() ? "" : ", ") + r.camera + " " + FormatNumber(r.rms_px, 3);
+      row.push_back(cell.empty() ? "-" : cell);
+    }
     rows.push_back(row);
   }
   return MarkdownTable(header, rows);

@@ -15,6 +15,8 @@
 #include "core/estimate.h"
 #include "evaluation/alignment.h"
 #include "evaluation/quantity_errors.h"
+#include "evaluation/reference.h"
+#include "evaluation/reprojection.h"
 #include "evaluation/trajectory_metrics.h"
 #include "solver/estimator.h"
 
@@ -24,6 +26,9 @@ struct EvaluationOptions {
   AlignmentMode align = AlignmentMode::kNone;  // for ATE
   double max_dt_s = 0.02;                      // association tolerance
   std::vector<std::string> quantities;         // restrict per-quantity errors (empty = all shared)
+  // Compare against this reference (an estimate, not a truth) instead of the dataset's ground
+  // truth. Not owned; must outlive the evaluation.
+  const ComparisonReference* reference = nullptr;
 };
 
 struct EstimatorEvaluation {
@@ -34,9 +39,13 @@ struct EstimatorEvaluation {
   Estimate estimate;
   std::vector<QuantityErrorSeries> quantity_errors;
   std::optional<AteResult> ate;
+  // Against a reference: whether this estimator is the reference itself (not compared).
+  bool is_reference = false;
+  std::vector<ReprojectionStatistics> reprojection;  // tag corners, per camera
 };
 
-// Evaluates an estimate against the dataset's ground truth.
+// Evaluates an estimate against the dataset's ground truth, or against options.reference when set;
+// the tag reprojection statistics are computed either way.
 EstimatorEvaluation EvaluateEstimate(const std::string& estimator_name, Estimate estimate,
                                      const Dataset& dataset, const EvaluationOptions& options);
 

@@ -1,6 +1,7 @@
 #include "datasets/io/euroc_io.h"
 
 #include <fmt/format.h>
+#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -26,6 +27,7 @@ constexpr const char* kGroundTruth = "state_groundtruth_estimate0";
 constexpr const char* kFeatures = "features0";
 constexpr const char* kLaser = "laser0";
 constexpr const char* kTags = "tags0";
+constexpr const char* kTags1 = "tags1";
 constexpr const char* kTruthQuantities = "truth_quantities0";
 
 std::vector<TimeNs> Stamps(const TextTable& table, std::vector<long>* lines) {
@@ -62,20 +64,7 @@ ImuSensor ReadImu(const fs::path& folder) {
     optional_sigma("gyroscope_bias_sigma", &imu.gyroscope_bias_sigma);
     optional_sigma("accelerometer_bias_sigma", &imu.accelerometer_bias_sigma);
   }
-  const TextTable table = ReadTextTable((folder / "data.csv").string(), Separator::kComma);
-  std::vector<long> lines;
-  const std::vector<TimeNs> t = Stamps(table, &lines);
-  table.RequireIncreasing(t, lines);
-  imu.samples.reserve(table.rows.size());
-  for (size_t i = 0; i < table.rows.size(); ++i) {
-    const TextRow& row = table.rows[i];
-    table.RequireFields(row, 7);
-    ImuSample s;
-    s.t_ns = t[i];
-    s.gyro_rad_s = {table.Number(row, 1), table.Number(row, 2), table.Number(row, 3)};
-    s.accel_m_s2 = {table.Number(row, 4), table.Number(row, 5), table.Number(row, 6)};
-    imu.samples.push_back(s);
-  }
+  imu.samples = ReadImuCsv((folder / "data.csv").string());
   return imu;
 }
 
@@ -193,7 +182,7 @@ std::vector<LaserObservation> ReadLaser(const std::string& path) {
   return out;
 }
 
-std::vector<TagObservation> ReadTags(const std::string& path) {
+std::vector<TagObservation> ReadTags(const std::string& path, int camera) {
   const TextTable table = ReadTextTable(path, Separator::kComma, true);
   std::vector<long> lines;
   const auto t = Stamps(table, &lines);
@@ -204,6 +193,7 @@ std::vector<TagObservation> ReadTags(const std::string& path) {
     table.RequireFields(row, 10);
     TagObservation obs;
     obs.t_ns = t[i];
+    obs.camera = camera;
     obs.tag_id = static_cast<int>(table.Number(row, 1));
     for (int k = 0; k < 4; ++k)
       obs.corners_px[k] = {table.Number(row, 2 + 2 * k), table.Number(row, 3 + 2 * k)};
@@ -248,6 +238,17 @@ Eigen::Vector3d Vector3(const YAML::Node& node, const std::string& field, const 
 WorldMap ReadMap(const std::string& path) {
   WorldMap map;
   const YAML::Node yaml = LoadYamlFile(path);
+  if (const YAML::Node frame = yaml["frame"]) {
+    const std::string name = frame.IsScalar() ? frame.Scalar() : "";
+    if (name == "world") {
+      map.frame = MapFrame::kWorld;
+    } else if (name == "board") {
+      map.frame = MapFrame::kBoard;
+    } else {
+      throw InputError(path, frame.Mark().line + 1, "frame",
+                       "'" + name + "' is not a map frame (world or board)");
+    }
+  }
   if (const YAML::Node landmarks = yaml["landmarks"]) {
     for (const auto& item : landmarks) {
       const int id = static_cast<int>(YamlDouble(item, "id", path));
@@ -393,6 +394,10 @@ void WriteExtensions(const Dataset& d, const fs::path& mav0) {
     fs::create_directories(mav0 / kTags);
     WriteFileAtomically((mav0 / kTags / "data.csv").string(), TagsCsv(d.tags));
   }
+  if (!d.tags1.empty()) {
+    fs::create_directories(mav0 / kTags1);
+    WriteFileAtomically((mav0 / kTags1 / "data.csv").string(), TagsCsv(d.tags1));
+  }
   const QuantityTable& q = d.truth_quantities;
   if (!q.empty()) {
     fs::create_directories(mav0 / kTruthQuantities);
@@ -414,6 +419,8 @@ std::string Vec(const Eigen::Vector3d& v) {
 
 void WriteMap(const WorldMap& map, const std::string& path) {
   std::string yaml = "# mavloc world map: what the world is known to contain (frames: DESIGN.md)\n";
+  if (map.frame == MapFrame::kBoard)
+    yaml += "frame: board  # coordinates in the board frame M; gravity in M unknown\n";
   if (!map.landmarks_W.empty()) {
     yaml += "landmarks:\n";
     for (const auto& [id, p] : map.landmarks_W)
@@ -440,6 +447,7 @@ void WriteMap(const WorldMap& map, const std::string& path) {
 }
 
 void WriteScenarioInfo(const Dataset& d, const std::string& path) {
+  if (d.scenario.empty() && d.scenario_info.empty()) return;  // a logged or imported dataset
   YAML::Emitter out;
   out << YAML::BeginMap;
   if (!d.scenario.empty()) out << YAML::Key << "scenario" << YAML::Value << d.scenario;
@@ -495,7 +503,9 @@ Dataset ReadEurocDataset(const std::string& root, const EurocReadOptions& option
   if (fs::exists(mav0 / kLaser / "data.csv"))
     d.laser = ReadLaser((mav0 / kLaser / "data.csv").string());
   if (fs::exists(mav0 / kTags / "data.csv"))
-    d.tags = ReadTags((mav0 / kTags / "data.csv").string());
+    d.tags = ReadTags((mav0 / kTags / "data.csv").string(), 0);
+  if (fs::exists(mav0 / kTags1 / "data.csv"))
+    d.tags1 = ReadTags((mav0 / kTags1 / "data.csv").string(), 1);
   if (fs::exists(mav0 / kTruthQuantities / "data.csv"))
     d.truth_quantities = ReadTruthQuantities((mav0 / kTruthQuantities / "data.csv").string());
   if (fs::exists(fs::path(root) / "map.yaml"))
@@ -518,6 +528,65 @@ void WriteEurocDataset(const Dataset& d, const std::string& root) {
   WriteExtensions(d, mav0);
   WriteMap(d.map, (fs::path(root) / "map.yaml").string());
   WriteScenarioInfo(d, (fs::path(root) / "scenario.yaml").string());
+}
+
+void WriteEurocDatasetAtomically(const Dataset& d, const std::string& root,
+                                 const std::map<std::string, std::string>& extra_files,
+                                 bool replace) {
+  fs::path target = fs::absolute(root).lexically_normal();
+  if (target.has_parent_path() && target.filename().empty()) target = target.parent_path();  // "d/"
+  const fs::path parent = target.parent_path();
+  if (!fs::is_directory(parent))
+    throw InputError(root, 0, "",
+                     "output's parent folder '" + parent.string() + "' does not exist");
+  std::error_code error;
+  const bool exists = fs::exists(target);
+  if (exists && !fs::is_directory(target))
+    throw InputError(root, 0, "", "exists and is not a folder");
+  if (exists && !fs::is_empty(target, error) && !replace)
+    throw InputError(root, 0, "",
+                     "folder exists and is not empty (choose another, or replace it: --force)");
+  const std::string suffix = std::to_string(::getpid());
+  const fs::path temporary = target.string() + ".tmp-" + suffix;
+  fs::remove_all(temporary, error);
+  try {
+    fs::create_directories(temporary);
+    WriteEurocDataset(d, temporary.string());
+    for (const auto& [relative, contents] : extra_files) {
+      const fs::path file = temporary / relative;
+      fs::create_directories(file.parent_path());
+      WriteFileAtomically(file.string(), contents);
+    }
+    const fs::path old = target.string() + ".old-" + suffix;
+    if (exists) fs::rename(target, old);
+    fs::rename(temporary, target);
+    if (exists) fs::remove_all(old);
+  } catch (const fs::filesystem_error& e) {
+    fs::remove_all(temporary, error);
+    throw InputError(root, 0, "", std::string("cannot write the dataset: ") + e.what());
+  } catch (...) {
+    fs::remove_all(temporary, error);
+    throw;
+  }
+}
+
+std::vector<ImuSample> ReadImuCsv(const std::string& path) {
+  const TextTable table = ReadTextTable(path, Separator::kComma);
+  std::vector<long> lines;
+  const std::vector<TimeNs> t = Stamps(table, &lines);
+  table.RequireIncreasing(t, lines);
+  std::vector<ImuSample> samples;
+  samples.reserve(table.rows.size());
+  for (size_t i = 0; i < table.rows.size(); ++i) {
+    const TextRow& row = table.rows[i];
+    table.RequireFields(row, 7);
+    ImuSample s;
+    s.t_ns = t[i];
+    s.gyro_rad_s = {table.Number(row, 1), table.Number(row, 2), table.Number(row, 3)};
+    s.accel_m_s2 = {table.Number(row, 4), table.Number(row, 5), table.Number(row, 6)};
+    samples.push_back(s);
+  }
+  return samples;
 }
 
 std::vector<GroundTruthState> ReadTrajectoryFile(const std::string& path) {

@@ -1,9 +1,13 @@
 // Reading and writing ASL/EuRoC dataset folders and mavloc's extension streams (DESIGN.md,
 // "Datasets on disk"). Real EuRoC sequences load unchanged; sensor.yaml is accepted with or without
 // the "%YAML:1.0" first line. Bad input throws InputError naming the file, line and field.
+// Tag streams: mav0/tags0 (cam0) and mav0/tags1 (cam1, TagObservation::camera = 1), same columns.
+// map.yaml's optional `frame: world|board` is WorldMap::frame (absent = world).
 #pragma once
 
+#include <map>
 #include <string>
+#include <vector>
 
 #include "core/dataset.h"
 
@@ -22,6 +26,17 @@ Dataset ReadEurocDataset(const std::string& root, const EurocReadOptions& option
 // Writes the dataset in the same layout. Every file is written to a temporary name and renamed,
 // so a failure never leaves a half-written file.
 void WriteEurocDataset(const Dataset& dataset, const std::string& root);
+
+// WriteEurocDataset into "<root>.tmp-<pid>" (plus extra_files: path relative to root -> text),
+// then renamed to root: on any error nothing is left at root. root must not exist or be an empty
+// folder, unless replace (the old folder is then swapped out after the new one is complete).
+void WriteEurocDatasetAtomically(const Dataset& dataset, const std::string& root,
+                                 const std::map<std::string, std::string>& extra_files = {},
+                                 bool replace = false);
+
+// An IMU CSV with EuRoC imu0's columns: timestamp [ns], w_x, w_y, w_z [rad/s], a_x, a_y, a_z
+// [m/s^2] (yac/Kalibr logs: "#ts,wx,wy,wz,ax,ay,az"). Strictly increasing stamps.
+std::vector<ImuSample> ReadImuCsv(const std::string& path);
 
 // The text of the tags0 stream ("#timestamp [ns],tag_id,u0 [px],v0 [px],...,v3 [px]"), as
 // WriteEurocDataset writes it; `mavloc detect-tags` writes its detections with it too.

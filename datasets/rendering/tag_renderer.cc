@@ -31,10 +31,16 @@ constexpr Family kFamilies[] = {
     {"tagStandard41h12", tagStandard41h12_create, tagStandard41h12_destroy},
 };
 
+// Kalibr's aprilgrid tags: tag36h11 with one more black ring inside the white one
+// (frontends/apriltag/aprilgrid_family.h builds the same family for the detector; the detector's
+// tests check that its bitmaps are these).
+bool IsAprilgrid(const std::string& name) { return name == "aprilgrid" || name == "tag36h11b2"; }
+
 // Owns one libapriltag family for the duration of a call.
 class FamilyHandle {
  public:
-  explicit FamilyHandle(const std::string& name) {
+  explicit FamilyHandle(const std::string& requested) {
+    const std::string name = IsAprilgrid(requested) ? "tag36h11" : requested;
     for (const auto& family : kFamilies) {
       if (name == family.name) {
         functions_ = &family;
@@ -42,7 +48,7 @@ class FamilyHandle {
         return;
       }
     }
-    throw InputError("", 0, "family", "unknown tag family '" + name + "' for rendering");
+    throw InputError("", 0, "family", "unknown tag family '" + requested + "' for rendering");
   }
   ~FamilyHandle() { functions_->destroy(family_); }
   FamilyHandle(const FamilyHandle&) = delete;
@@ -99,16 +105,25 @@ cv::Mat TagFamilyBitmap(const std::string& family_name, int id) {
   // libapriltag allocates the image with calloc and does not export image_u8_destroy.
   std::free(image->buf);
   std::free(image);
-  return bitmap;
+  if (!IsAprilgrid(family_name)) return bitmap;
+  // White ring, then two black rings (tag36h11's black ring widened), then the 6 x 6 data.
+  cv::Mat wide(bitmap.rows + 2, bitmap.cols + 2, CV_8UC1, cv::Scalar(0));
+  bitmap(cv::Rect(1, 1, bitmap.cols - 2, bitmap.rows - 2))
+      .copyTo(wide(cv::Rect(2, 2, bitmap.cols - 2, bitmap.rows - 2)));
+  wide.row(0).setTo(255);
+  wide.row(wide.rows - 1).setTo(255);
+  wide.col(0).setTo(255);
+  wide.col(wide.cols - 1).setTo(255);
+  return wide;
 }
 
 int TagFamilyBorderCells(const std::string& family_name) {
   const FamilyHandle family(family_name);
-  return family.get()->width_at_border;
+  return family.get()->width_at_border + (IsAprilgrid(family_name) ? 2 : 0);
 }
 
 TagRenderer::TagRenderer(const CameraModel& camera, const std::map<int, TagInfo>& tags,
-                         const TagRenderOptions& options)
+                         const TagRenderOptions& options, const TagRenderExtras& extras)
     : camera_(camera), options_(options) {
   if (options.supersampling < 1) throw InputError("", 0, "supersampling", "must be >= 1");
   const int border_cells = TagFamilyBorderCells(options.family);
@@ -119,9 +134,24 @@ TagRenderer::TagRenderer(const CameraModel& camera, const std::map<int, TagInfo>
     tag.bitmap = TagFamilyBitmap(options.family, id);
     total_cells_ = tag.bitmap.cols;
     tag.cell_m = info.size_m / border_cells;
-    tag.half_page_m = 0.5 * tag.cell_m * (total_cells_ + 2.0 * options.page_margin_cells);
+    tag.half_x_m = tag.half_y_m =
+        0.5 * tag.cell_m * (total_cells_ + 2.0 * options.page_margin_cells);
     tags_.push_back(tag);
   }
+  auto add_rectangles = [&](const std::vector<RenderRectangle>& rectangles, PlaneTag::Kind kind) {
+    for (const auto& rectangle : rectangles) {
+      if (!(rectangle.half_x_m > 0.0 && rectangle.half_y_m > 0.0))
+        throw InputError("", 0, "rectangle", "half extents must be positive");
+      PlaneTag item;
+      item.kind = kind;
+      item.T_W_T = rectangle.T_W_R;
+      item.half_x_m = rectangle.half_x_m;
+      item.half_y_m = rectangle.half_y_m;
+      tags_.push_back(item);
+    }
+  };
+  add_rectangles(extras.black_squares, PlaneTag::Kind::kSquare);
+  add_rectangles(extras.papers, PlaneTag::Kind::kPaper);
   // The floor texture on a grid 3 m beyond the tags (procedural outside it).
   double x_min = 0.0, x_max = 0.0, y_min = 0.0, y_max = 0.0;
   for (const auto& tag : tags_) {
@@ -190,17 +220,17 @@ cv::Mat TagRenderer::RenderIdeal(const Pose& T_W_C) const {
   std::vector<Visible> visible;
   for (const auto& tag : tags_) {
     const Pose T_C_T = T_C_W * tag.T_W_T;
-    const double h = tag.half_page_m;
+    const double hx = tag.half_x_m, hy = tag.half_y_m;
     double u_min = 1e18, u_max = -1e18, v_min = 1e18, v_max = -1e18;
     bool behind = false;
     const int n = 8;  // points per page edge (distortion bends the edges)
     for (int e = 0; e < 4 && !behind; ++e) {
       for (int k = 0; k < n; ++k) {
-        const double s = -h + 2.0 * h * k / n;
-        const Eigen::Vector3d p_T = e == 0   ? Eigen::Vector3d(s, -h, 0)
-                                    : e == 1 ? Eigen::Vector3d(h, s, 0)
-                                    : e == 2 ? Eigen::Vector3d(-s, h, 0)
-                                             : Eigen::Vector3d(-h, -s, 0);
+        const double f = -1.0 + 2.0 * k / n;  // along the edge, in [-1, 1)
+        const Eigen::Vector3d p_T = e == 0   ? Eigen::Vector3d(f * hx, -hy, 0)
+                                    : e == 1 ? Eigen::Vector3d(hx, f * hy, 0)
+                                    : e == 2 ? Eigen::Vector3d(-f * hx, hy, 0)
+                                             : Eigen::Vector3d(-hx, -f * hy, 0);
         const Eigen::Vector3d p_C = T_C_T * p_T;
         if (p_C.z() <= 1e-3) {
           behind = true;
@@ -226,26 +256,42 @@ cv::Mat TagRenderer::RenderIdeal(const Pose& T_W_C) const {
   }
 
   const double half_bitmap_cells = 0.5 * total_cells_;
-  // The grey seen along normalized ray (x, y, 1): nearest tag page in front, else the floor. *label
-  // names the uniform region hit (-1 floor, else one value per tag cell and per page margin).
+  // The grey seen along normalized ray (x, y, 1): nearest item in front (coplanar items within a
+  // relative depth of 1e-9: the higher kind wins), else the floor. *label names the uniform region
+  // hit (-1 floor, else one value per tag cell, per page margin and per square or paper).
+  constexpr double kCoplanar = 1e-9;
   auto trace = [&](double x, double y, const std::vector<const Visible*>& candidates,
                    int* label) -> double {
     double best_depth = std::numeric_limits<double>::infinity();
+    int best_kind = -1;
     double grey = -1.0;
     *label = -1;
     for (const Visible* vis : candidates) {
       const Eigen::Vector3d q = vis->H * Eigen::Vector3d(x, y, 1.0);
       if (q.z() <= 0.0) continue;
       const double depth = 1.0 / q.z();
-      if (depth >= best_depth) continue;
-      const double qx = q.x() * depth, qy = q.y() * depth;
       const PlaneTag& tag = *vis->tag;
-      if (std::abs(qx) > tag.half_page_m || std::abs(qy) > tag.half_page_m) continue;
+      const int kind = static_cast<int>(tag.kind);
+      if (depth > best_depth * (1.0 + kCoplanar)) continue;
+      if (depth >= best_depth * (1.0 - kCoplanar) && kind <= best_kind) continue;
+      const double qx = q.x() * depth, qy = q.y() * depth;
+      if (std::abs(qx) > tag.half_x_m || std::abs(qy) > tag.half_y_m) continue;
       best_depth = depth;
+      best_kind = kind;
+      const int base = static_cast<int>(vis - visible.data()) * (total_cells_ * total_cells_ + 1);
+      if (tag.kind == PlaneTag::Kind::kSquare) {
+        grey = options_.ink_grey;
+        *label = base;
+        continue;
+      }
+      if (tag.kind == PlaneTag::Kind::kPaper) {
+        grey = options_.paper_grey;
+        *label = base;
+        continue;
+      }
       // Bitmap column from -x to +x, row from +y (row 0) to -y.
       const double col = qx / tag.cell_m + half_bitmap_cells;
       const double row = half_bitmap_cells - qy / tag.cell_m;
-      const int base = static_cast<int>(vis - visible.data()) * (total_cells_ * total_cells_ + 1);
       if (col >= 0.0 && col < total_cells_ && row >= 0.0 && row < total_cells_) {
         const int r = static_cast<int>(row), c = static_cast<int>(col);
         grey = tag.bitmap.at<uint8_t>(r, c) < 128 ? options_.ink_grey : options_.paper_grey;
@@ -311,8 +357,17 @@ cv::Mat TagRenderer::RenderIdeal(const Pose& T_W_C) const {
       }
       candidates_at(u, v);
       int label = 0;
-      const bool uniform = candidates.empty() || (l0[u] >= -1 && l0[u] == l0[u + 1] &&
-                                                  l0[u] == l1[u] && l0[u] == l1[u + 1]);
+      bool uniform = candidates.empty() ||
+                     (l0[u] >= -1 && l0[u] == l0[u + 1] && l0[u] == l1[u] && l0[u] == l1[u + 1]);
+      // Four corners in one convex region (a tag cell, a square) mean the whole pixel is in it;
+      // but a square drawn over paper or a tag's ring leaves those regions non-convex: a square's
+      // tip may enter a pixel whose corners all see the paper. Pixels near a square are sampled.
+      for (const Visible* vis : candidates) {
+        if (!uniform) break;
+        if (vis->tag->kind == PlaneTag::Kind::kSquare &&
+            l0[u] != static_cast<int>(vis - visible.data()) * (total_cells_ * total_cells_ + 1))
+          uniform = false;
+      }
       if (uniform) {
         const double x = 0.25 * (x0[u] + x0[u + 1] + x1[u] + x1[u + 1]);
         const double y = 0.25 * (y0[u] + y0[u + 1] + y1[u] + y1[u + 1]);

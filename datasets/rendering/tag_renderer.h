@@ -15,6 +15,12 @@
 // texture is smooth). Optional motion blur averages the ideal image over poses spread across the
 // exposure; sensor noise is additive Gaussian in grey levels before 8-bit quantization.
 //
+// Besides tags, a scene may hold black squares and white paper rectangles on planes (the corner
+// squares and the board of a Kalibr aprilgrid, aprilgrid_renderer.h). Coplanar items overlap in a
+// fixed order: squares over tags over paper (the aprilgrid's corner squares cover the corners of
+// the tags' white rings). The family "aprilgrid" (alias "tag36h11b2") draws tag36h11's bitmaps
+// with a 2-cell black border (frontends/apriltag/aprilgrid_family.h; 12 x 12 cells).
+//
 // Pixel convention: the centre of pixel (i, j) is at (i, j) (mavloc, OpenCV); pixel (i, j) covers
 // [i - 1/2, i + 1/2] x [j - 1/2, j + 1/2].
 #pragma once
@@ -32,14 +38,28 @@
 namespace mavloc {
 
 struct TagRenderOptions {
-  std::string family = "tag36h11";
-  int supersampling = 4;           // samples per axis on pixels that may see a tag
-  double page_margin_cells = 1.0;  // white paper beyond the bitmap's own white ring (cells)
-  double ink_grey = 0.08;          // black cells, in [0, 1]
-  double paper_grey = 0.92;        // white cells and paper
-  double floor_grey = 0.45;        // mean floor brightness
-  double floor_contrast = 0.12;    // amplitude of the floor texture
-  double noise_sigma_grey = 2.0;   // sensor noise, grey levels (0..255)
+  std::string family = "tag36h11";  // also "aprilgrid" / "tag36h11b2"
+  int supersampling = 4;            // samples per axis on pixels that may see a tag
+  double page_margin_cells = 1.0;   // white paper beyond the bitmap's own white ring (cells)
+  double ink_grey = 0.08;           // black cells, in [0, 1]
+  double paper_grey = 0.92;         // white cells and paper
+  double floor_grey = 0.45;         // mean floor brightness
+  double floor_contrast = 0.12;     // amplitude of the floor texture
+  double noise_sigma_grey = 2.0;    // sensor noise, grey levels (0..255)
+};
+
+// A rectangle of half extents (half_x_m, half_y_m) centred at the origin of its frame R, in the
+// plane z_R = 0.
+struct RenderRectangle {
+  Pose T_W_R;
+  double half_x_m = 0.0;
+  double half_y_m = 0.0;
+};
+
+// Uniform items drawn with the tags: black squares (ink_grey) and white paper (paper_grey).
+struct TagRenderExtras {
+  std::vector<RenderRectangle> black_squares;
+  std::vector<RenderRectangle> papers;
 };
 
 // The bitmap of one tag of a libapriltag family (total_width x total_width cells, 0 = black,
@@ -52,7 +72,7 @@ class TagRenderer {
  public:
   // Throws InputError for an unknown family or a tag id outside the family.
   TagRenderer(const CameraModel& camera, const std::map<int, TagInfo>& tags,
-              const TagRenderOptions& options = {});
+              const TagRenderOptions& options = {}, const TagRenderExtras& extras = {});
 
   // The ideal (noise-free, blur-free) image seen from camera pose T_W_C, CV_32F in [0, 1].
   cv::Mat RenderIdeal(const Pose& T_W_C) const;
@@ -63,12 +83,15 @@ class TagRenderer {
   const CameraModel& camera() const { return camera_; }
 
  private:
+  // A tag (bitmap on its page), a black square or a paper rectangle.
   struct PlaneTag {
+    enum class Kind { kPaper = 0, kTag = 1, kSquare = 2 };  // value = drawing priority
+    Kind kind = Kind::kTag;
     int id = 0;
     Pose T_W_T;
-    double cell_m = 0.0;       // edge of one bitmap cell
-    double half_page_m = 0.0;  // half the page edge (bitmap + margin)
-    cv::Mat bitmap;            // total_width x total_width
+    double cell_m = 0.0;                    // edge of one bitmap cell (tags)
+    double half_x_m = 0.0, half_y_m = 0.0;  // half extents (tags: the page, bitmap + margin)
+    cv::Mat bitmap;                         // total_width x total_width (tags)
   };
   // The procedural floor texture, and its lookup through a precomputed 5 mm grid around the tags.
   double FloorGreyProcedural(double x_W, double y_W) const;

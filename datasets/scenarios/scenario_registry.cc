@@ -1,5 +1,6 @@
 // The list of synthetic scenarios, in the order `mavloc list` shows them. Adding a scenario is one
 // entry here.
+#include "datasets/scenarios/aprilgrid_calibration.h"
 #include "datasets/scenarios/euroc_laser.h"
 #include "datasets/scenarios/figure_eight.h"
 #include "datasets/scenarios/laser_plane.h"
@@ -38,6 +39,10 @@ const std::vector<ScenarioEntry>& ScenarioRegistry() {
       {"euroc-laser",
        "laser paper 5.2: real EuRoC V1_01_easy IMU + ground truth, simulated laser spot at 10 Hz",
        GenerateEurocLaser},
+      {"aprilgrid-calibration",
+       "issue 12: stereo rig waved before a tilted 6x6 aprilgrid (board map), "
+       "known T_B_C and time offset; IMU 200 Hz, cams 20 Hz",
+       GenerateAprilgridCalibration},
   };
   return kEntries;
 }

@@ -1,5 +1,6 @@
 // The list of paper reproductions (`mavloc repro NAME`). Adding one is one entry here.
 #include "evaluation/repro/apriltag_repro.h"
+#include "evaluation/repro/euroc_imu_april_repro.h"
 #include "evaluation/repro/laser_repro.h"
 #include "evaluation/repro/pixhawk_repro.h"
 #include "evaluation/repro/repro.h"
@@ -20,6 +21,10 @@ const std::vector<ReproEntry>& ReproRegistry() {
        RunAprilTagRepro},
       {"smoother", "issue 7: smoother vs its seed and the papers' filter, every visual scenario",
        RunSmootherRepro},
+      {"euroc-imu-april",
+       "issue 12: smoother calibration (T_B_C, t_d, gravity) and the papers' tag estimators on "
+       "EuRoC's real imu_april log, against EuRoC's official calibration",
+       RunEurocImuAprilRepro},
   };
   return kEntries;
 }

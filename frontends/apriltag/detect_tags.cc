@@ -8,6 +8,7 @@
 
 #include "core/errors.h"
 #include "core/progress.h"
+#include "frontends/apriltag/aprilgrid_family.h"
 #include "frontends/image_io.h"
 
 #include <opencv2/imgproc.hpp>
@@ -30,7 +31,10 @@ bool IsImageFile(const std::filesystem::path& path) {
 RectifiedTagDetector::RectifiedTagDetector(const TagDetectorOptions& options,
                                            const CameraModel& camera)
     : detector_(options), camera_(camera) {
-  rectify_ = camera.distortion_model() != DistortionModel::kNone &&
+  // Aprilgrid corners are X-junctions refined on the raw image (aprilgrid_detector.h): distortion
+  // does not bias them, and a remap would only blur them.
+  rectify_ = !IsAprilgridFamily(options.family) &&
+             camera.distortion_model() != DistortionModel::kNone &&
              std::any_of(camera.distortion().begin(), camera.distortion().end(),
                          [](double k) { return k != 0.0; });
   if (!rectify_) return;
@@ -98,6 +102,8 @@ DatasetTagDetections DetectTagsInDataset(const Dataset& dataset, const std::stri
   const CameraSensor* camera = dataset.Camera(camera_name);
   if (camera == nullptr)
     throw InputError(dataset.root, 0, "", "the dataset has no camera " + camera_name);
+  // The dataset's camera k writes tags<k> (TagObservation::camera).
+  const int camera_index = static_cast<int>(camera - dataset.cameras.data());
   CameraModel model = camera->model;
   if (!rectify) model = CameraModel(model.width(), model.height(), model.intrinsics());
   // Without rectification the detector runs on the raw image (a distortion-free model disables it).
@@ -115,6 +121,7 @@ DatasetTagDetections DetectTagsInDataset(const Dataset& dataset, const std::stri
       TagObservation obs;
       obs.t_ns = frame.t_ns;
       obs.tag_id = det.id;
+      obs.camera = camera_index;
       obs.corners_px = det.corners_px;
       out.observations.push_back(obs);
       const auto tag = dataset.map.tags.find(det.id);
@@ -131,12 +138,16 @@ DatasetTagDetections DetectTagsInDataset(const Dataset& dataset, const std::stri
   return out;
 }
 
-std::vector<PhotoDetection> DetectTagsInFolder(const std::string& folder, TagDetector& detector) {
-  if (!std::filesystem::is_directory(folder))
-    throw InputError(folder, 0, "", "not a folder of images");
+std::vector<PhotoDetection> DetectTagsInFolder(const std::string& path, TagDetector& detector) {
   std::vector<std::filesystem::path> files;
-  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
-    if (entry.is_regular_file() && IsImageFile(entry.path())) files.push_back(entry.path());
+  if (std::filesystem::is_regular_file(path) && IsImageFile(path)) {
+    files.push_back(path);
+  } else if (std::filesystem::is_directory(path)) {
+    for (const auto& entry : std::filesystem::directory_iterator(path)) {
+      if (entry.is_regular_file() && IsImageFile(entry.path())) files.push_back(entry.path());
+    }
+  } else {
+    throw InputError(path, 0, "", "neither a folder of images nor an image file");
   }
   std::sort(files.begin(), files.end());
   std::vector<PhotoDetection> out;

@@ -2,8 +2,9 @@
 // - a dataset: every frame of cam0 through the detector -> tags0 rows (timestamp, tag id, the 4
 //   corners in distorted pixels, mavloc order), plus the per-tag pose of each detection whose tag
 //   is in the map (tag_pose.h: IPPE_SQUARE on the undistorted corners);
-// - a folder of photos (.jpg, .jpeg, .png, .pgm, .bmp, sorted by name): one row per detection with
-//   the image file name, the tag id and its 4 corners.
+//   (tags1 for cam1: the dataset's camera k writes tags<k>, TagObservation::camera = k);
+// - a folder of photos (.jpg, .jpeg, .png, .pgm, .bmp, sorted by name), or one image file: one row
+//   per detection with the image file name, the tag id and its 4 corners.
 // The CSV texts are returned; the caller writes them (atomically).
 #pragma once
 
@@ -24,7 +25,8 @@ namespace mavloc {
 // about 1.2 x 1.2 times the raw size for the arena camera), by cv::remap (bilinear: rectified
 // pixel -> normalized -> distorted pixel); it detects there and maps the corners back to distorted
 // pixels of the raw image through the camera model, so they stay in the tags0 convention. With no
-// distortion it is the plain detector.
+// distortion, and for the aprilgrid families (whose corners are X-junctions measured on the raw
+// image, aprilgrid_detector.h), it is the plain detector.
 class RectifiedTagDetector {
  public:
   RectifiedTagDetector(const TagDetectorOptions& options, const CameraModel& camera);
@@ -65,8 +67,9 @@ struct PhotoDetection {
   TagDetection detection;
 };
 
-// Throws InputError for a missing folder or an image that cannot be decoded.
-std::vector<PhotoDetection> DetectTagsInFolder(const std::string& folder, TagDetector& detector);
+// `path` is a folder of images or a single image file. Throws InputError for a missing path or an
+// image that cannot be decoded.
+std::vector<PhotoDetection> DetectTagsInFolder(const std::string& path, TagDetector& detector);
 
 // "#timestamp [ns],tag_id,p_C_T_x [m],...,q_C_T_w,x,y,z,rms_reprojection [px]".
 std::string TagPosesCsv(const std::vector<TagPoseRow>& poses);

@@ -8,11 +8,14 @@
 #include <apriltag/tagCircle21h7.h>
 #include <apriltag/tagStandard41h12.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <functional>
 
 #include "core/errors.h"
+#include "frontends/apriltag/aprilgrid_family.h"
 
 namespace mavloc {
 
@@ -31,6 +34,8 @@ constexpr FamilyFunctions kFamilies[] = {
     {"tag16h5", tag16h5_create, tag16h5_destroy},
     {"tagStandard41h12", tagStandard41h12_create, tagStandard41h12_destroy},
     {"tagCircle21h7", tagCircle21h7_create, tagCircle21h7_destroy},
+    {kAprilgridFamilyName, AprilgridFamilyCreate, AprilgridFamilyDestroy},
+    {kAprilgridFamilyAlias, AprilgridFamilyCreate, AprilgridFamilyDestroy},
 };
 
 const FamilyFunctions* FindFamily(const std::string& name) {
@@ -84,13 +89,38 @@ TagDetector::TagDetector(const TagDetectorOptions& options)
 
 TagDetector::~TagDetector() = default;
 
+bool TagDetector::RefineAprilgrid(const cv::Mat& image, TagDetection* detection) const {
+  const AprilgridDetectOptions& grid = options_.aprilgrid;
+  // The aprilgrid steps work in mavloc's pixel convention; raw output is shifted back at the end.
+  const double to_mavloc = options_.raw_output ? kMavlocFromApriltagPixelShift : 0.0;
+  std::array<Eigen::Vector2d, 4> corners;
+  for (int k = 0; k < 4; ++k)
+    corners[k] = detection->corners_px[k] + Eigen::Vector2d::Constant(to_mavloc);
+  if (grid.separate_junctions) corners = UndoJunctionSeparation(corners);
+  if (grid.refine_corners && !RefineAprilgridCorners(image, grid, &corners)) return false;
+  for (int k = 0; k < 4; ++k)
+    detection->corners_px[k] = corners[k] - Eigen::Vector2d::Constant(to_mavloc);
+  // The centre (the image of the tag centre under the homography) is where the diagonals cross.
+  const Eigen::Vector3d d02 = corners[0].homogeneous().cross(corners[2].homogeneous());
+  const Eigen::Vector3d d13 = corners[1].homogeneous().cross(corners[3].homogeneous());
+  const Eigen::Vector3d centre = d02.cross(d13);
+  if (std::abs(centre.z()) > 1e-12)
+    detection->center_px = centre.hnormalized() - Eigen::Vector2d::Constant(to_mavloc);
+  return true;
+}
+
 std::vector<TagDetection> TagDetector::Detect(const cv::Mat& gray) {
   std::vector<TagDetection> detections;
   if (gray.empty() || gray.type() != CV_8UC1) return detections;
+  const bool aprilgrid = IsAprilgridFamily(options_.family);
+  const AprilgridDetectOptions& grid = options_.aprilgrid;
+  const cv::Mat segmented =
+      aprilgrid && grid.separate_junctions ? SeparateDiagonalJunctions(gray) : gray;
   // libapriltag reads the image through this plain struct; it does not take ownership.
-  image_u8_t header{gray.cols, gray.rows, static_cast<int32_t>(gray.step[0]),
-                    const_cast<uint8_t*>(gray.ptr<uint8_t>())};
+  image_u8_t header{segmented.cols, segmented.rows, static_cast<int32_t>(segmented.step[0]),
+                    const_cast<uint8_t*>(segmented.ptr<uint8_t>())};
   zarray_t* found = apriltag_detector_detect(impl_->detector, &header);
+  cv::Mat refinement_image;  // aprilgrid: made on the first detection
   for (int i = 0; i < zarray_size(found); ++i) {
     apriltag_detection_t* det = nullptr;
     zarray_get(found, i, &det);
@@ -105,6 +135,9 @@ std::vector<TagDetection> TagDetector::Detect(const cv::Mat& gray) {
       detection.corners_px[k] =
           Eigen::Vector2d(det->p[source][0] + shift, det->p[source][1] + shift);
     }
+    if (aprilgrid && grid.refine_corners && refinement_image.empty())
+      refinement_image = RefinementImage(gray, grid);
+    if (aprilgrid && !RefineAprilgrid(refinement_image, &detection)) continue;
     bool near_border = false;
     for (const auto& c : detection.corners_px) {
       const double m = options_.min_border_px;

@@ -18,6 +18,11 @@
 // (i + 0.5, j + 0.5) (upstream issues #121, #334). Detections are shifted by -0.5 px into
 // mavloc's convention unless `raw_output` is set.
 //
+// Aprilgrids. The families "aprilgrid" / "tag36h11b2" (Kalibr's tag36h11 with a 2-bit border,
+// aprilgrid_family.h) run the aprilgrid steps of aprilgrid_detector.h: segmentation on an image
+// whose diagonal black junctions are separated, and corners refined as X-junctions on the original
+// image (options `aprilgrid`). Their corners are point features, valid on the raw distorted image.
+//
 // refine_edges. Debian's libapriltag 3.3.0 still has the refine_edges coordinate bug fixed upstream
 // in 2024 (PR #346): on exact images with pixel-aligned, non-anti-aliased edges it moves corners by
 // 0.1-0.25 px. On area-integrated edges, what a camera (and datasets/rendering) produces, it is the
@@ -33,10 +38,12 @@
 #include <string>
 #include <vector>
 
+#include "frontends/apriltag/aprilgrid_detector.h"
+
 namespace mavloc {
 
 struct TagDetectorOptions {
-  std::string family = "tag36h11";  // tag36h11, tag25h9, tag16h5, tagStandard41h12, ...
+  std::string family = "tag36h11";  // tag36h11, aprilgrid, tag25h9, tag16h5, tagStandard41h12, ...
   double decimate = 1.0;            // quad_decimate (upstream default 2.0)
   int threads = 1;                  // nthreads
   bool refine_edges = true;         // refine_edges (see above)
@@ -47,6 +54,8 @@ struct TagDetectorOptions {
   // Detections with a corner closer than this to the image border are dropped: libapriltag
   // extrapolates the corners of tags cut by the border (errors of pixels). 0 keeps everything.
   double min_border_px = 3.0;
+  // Families "aprilgrid" / "tag36h11b2" only.
+  AprilgridDetectOptions aprilgrid;
 };
 
 // Names accepted by TagDetectorOptions::family.
@@ -82,6 +91,10 @@ class TagDetector {
   std::vector<TagDetection> Detect(const cv::Mat& gray);
 
  private:
+  // The aprilgrid steps after libapriltag (aprilgrid_detector.h); false drops the detection.
+  // `image`: RefinementImage of the original image (empty when corners are not refined).
+  bool RefineAprilgrid(const cv::Mat& image, TagDetection* detection) const;
+
   struct Impl;
   TagDetectorOptions options_;
   std::unique_ptr<Impl> impl_;

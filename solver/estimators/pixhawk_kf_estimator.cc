@@ -6,13 +6,14 @@
 #include "core/rotation.h"
 #include "solver/pixhawk/attitude_check.h"
 #include "solver/pose/corner_pnp.h"
+#include "solver/pose/tags_camera.h"
 
 namespace mavloc {
 
-namespace {}
-
 PixhawkKfEstimator::PixhawkKfEstimator(const EstimatorOptions& options)
-    : options_(options), upright_(ParseUpright2pSettings(options)) {
+    : options_(options),
+      upright_(ParseUpright2pSettings(options)),
+      board_(ParseBoardInitOptions(options)) {
   if (!options.Has("min_inlier_ratio")) upright_.min_inlier_ratio = 0.5;
   source_ = options.GetString("source", "upright-2p");
   if (source_ != "upright-2p" && source_ != "pnp")
@@ -33,16 +34,25 @@ PixhawkKfEstimator::PixhawkKfEstimator(const EstimatorOptions& options)
 Applicability PixhawkKfEstimator::AppliesTo(const Dataset& dataset) const {
   if (dataset.tags.empty()) return Applicability::No("needs tags0 corner observations");
   if (dataset.map.tags.empty()) return Applicability::No("needs tags (markers) in map.yaml");
-  if (!dataset.Camera("cam0")) return Applicability::No("needs cam0 calibration");
+  const std::string camera = TagsCameraMissing(dataset);
+  if (!camera.empty()) return Applicability::No(camera);
   const std::string missing = RollPitchSourceMissing(dataset, upright_.source);
   if (!missing.empty()) return Applicability::No(missing);
+  const std::string board = BoardWorldMissing(dataset);
+  if (!board.empty()) return Applicability::No(board);
   return Applicability::Yes();
 }
 
 Estimate PixhawkKfEstimator::Run(const Dataset& dataset) {
+  return RunInWorldFrame(dataset, board_, [&](const Dataset& dataset_W, const BoardWorld* board) {
+    return RunInWorld(dataset_W, board);
+  });
+}
+
+Estimate PixhawkKfEstimator::RunInWorld(const Dataset& dataset, const BoardWorld* board) {
   Estimate estimate;
   estimate.quantities = MakeQuantityTable({"x", "y", "z", "yaw", "vx", "vy", "vz"});
-  const CameraSensor& camera = *dataset.Camera("cam0");
+  const CameraSensor& camera = *TagsCamera(dataset);
   RollPitchSource source(dataset, upright_.source, options_);
   PixhawkKf kf(kf_);
   const TimeNs nominal_period_ns =
@@ -52,6 +62,10 @@ Estimate PixhawkKfEstimator::Run(const Dataset& dataset) {
 
   for (const TagFrame& frame : GroupTagFrames(dataset)) {
     const TimeNs t_exposure = source.ExposureTime(frame.t_ns);
+    if (board != nullptr && frame.t_ns < board->t_init_end_ns) {
+      estimate.CountFailure("frame inside the gravity initialisation window");
+      continue;
+    }
     filter_time = use_measured_dt_ || first ? t_exposure : filter_time + nominal_period_ns;
     first = false;
     const auto roll_pitch = source.At(t_exposure);

@@ -14,10 +14,18 @@
 //   use_measured_dt (true; false = every processed frame is taken as one nominal camera period
 //     apart, to show why the measured dt matters when frames are dropped);
 //   and upright-2p's options and the attitude-source options (roll_pitch_source.h).
+//   gravity_init_s (2), gravity_min_tags (2): the board initialisation window (below).
 // Output at each frame while tracking: x, y, z, yaw, vx, vy, vz, and the pose with the IMU's
 // roll and pitch.
+// On a board map (MapFrame::kBoard) the map is first put into the gravity-aligned W of
+// core/board_frame.h from the PnP poses and IMU of the first gravity_init_s seconds
+// (solver/board/board_world.h). The filter is causal: it starts with the first frame at the end of
+// that window (the frames inside it are counted as "frame inside the gravity initialisation
+// window"), so no measurement it uses precedes the T_W_M it is expressed with. The estimate carries
+// T_W_M and board_roll, board_pitch.
 #pragma once
 
+#include "solver/board/board_world.h"
 #include "solver/estimator.h"
 #include "solver/estimators/upright_2p_estimator.h"
 #include "solver/pixhawk/pixhawk_kf.h"
@@ -32,8 +40,11 @@ class PixhawkKfEstimator : public Estimator {
   Estimate Run(const Dataset& dataset) override;
 
  private:
+  Estimate RunInWorld(const Dataset& dataset, const BoardWorld* board);
+
   EstimatorOptions options_;
   Upright2pSettings upright_;
+  BoardInitOptions board_;
   PixhawkKfOptions kf_;
   std::string source_;
   double attitude_check_rad_;

@@ -2,10 +2,15 @@
 // ARToolKit+ pose, "without the 2-point algorithm"): per frame, T_W_B from all the corners of the
 // markers in view (solver/pose/corner_pnp.h: IPPE for the coplanar floor board + LM on the pixel
 // reprojection error), no IMU and no filtering. Output at each frame: x, y, z, roll, pitch, yaw
-// and the pose. Options: image_delay_ms (0): subtracted from the frame stamps (a known transfer
-// delay).
+// and the pose. On a board map (MapFrame::kBoard) the map is first put into the gravity-aligned W
+// of core/board_frame.h from the first gravity_init_s seconds of PnP poses and IMU
+// (solver/board/board_world.h); every frame, those of the window included, is then solved in W,
+// and the estimate carries T_W_M and board_roll, board_pitch. Options: image_delay_ms (0):
+// subtracted from the frame stamps (a known transfer delay); gravity_init_s (2), gravity_min_tags
+// (2).
 #pragma once
 
+#include "solver/board/board_world.h"
 #include "solver/estimator.h"
 
 namespace mavloc {
@@ -18,7 +23,10 @@ class PnpEstimator : public Estimator {
   Estimate Run(const Dataset& dataset) override;
 
  private:
+  Estimate RunInWorld(const Dataset& dataset) const;
+
   double image_delay_ms_;
+  BoardInitOptions board_;
 };
 
 }  // namespace mavloc

@@ -1,12 +1,18 @@
 #include "solver/estimators/smoother_estimator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
 
+#include <fmt/format.h>
+
+#include "core/board_frame.h"
 #include "core/errors.h"
 #include "core/rotation.h"
+#include "solver/board/board_gravity_from_positions.h"
 #include "solver/laser/laser_calibration.h"
+#include "solver/smoother/tilt_manifold.h"
 
 namespace mavloc {
 
@@ -26,10 +32,65 @@ std::optional<double> ScenarioNumber(const Dataset& dataset, const std::string& 
   }
 }
 
-bool HasMapTags(const Dataset& dataset) {
-  for (const auto& obs : dataset.tags)
+bool StreamHasMapTags(const Dataset& dataset, const std::vector<TagObservation>& stream) {
+  for (const auto& obs : stream)
     if (dataset.map.tags.count(obs.tag_id)) return true;
   return false;
+}
+
+// tags0 or tags1 with map tags (tags1 only with a second camera).
+bool HasMapTags(const Dataset& dataset) {
+  return StreamHasMapTags(dataset, dataset.tags) ||
+         (dataset.cameras.size() > 1 && StreamHasMapTags(dataset, dataset.tags1));
+}
+
+// "cam0" -> 0, "cam1" -> 1; -1 otherwise.
+int CameraIndexFromName(const std::string& name) {
+  if (name == "cam0") return 0;
+  if (name == "cam1") return 1;
+  return -1;
+}
+
+// The `cameras` option as camera indices (empty for "all"); throws on unknown names.
+std::vector<int> ParseCameras(const std::string& text) {
+  std::vector<int> cameras;
+  if (text == "all") return cameras;
+  size_t begin = 0;
+  while (begin <= text.size()) {
+    size_t end = text.find(',', begin);
+    if (end == std::string::npos) end = text.size();
+    const std::string name = text.substr(begin, end - begin);
+    const int index = CameraIndexFromName(name);
+    if (index < 0)
+      throw InputError("smoother: option cameras must be all, cam0, cam1 or cam0,cam1 (got '" +
+                       text + "')");
+    if (std::find(cameras.begin(), cameras.end(), index) == cameras.end()) cameras.push_back(index);
+    begin = end + 1;
+  }
+  std::sort(cameras.begin(), cameras.end());
+  return cameras;
+}
+
+// d(board_roll, board_pitch) / d(tilt tangent) at q_W_M (TiltManifold's left perturbation about
+// W's x and y), by central differences.
+Eigen::Matrix2d BoardTiltJacobian(const Eigen::Quaterniond& q_W_M) {
+  const TiltManifold manifold;
+  const double x[4] = {q_W_M.x(), q_W_M.y(), q_W_M.z(), q_W_M.w()};
+  auto tilt = [&](const Eigen::Vector2d& d) {
+    double y[4];
+    manifold.Plus(x, d.data(), y);
+    const Eigen::Quaterniond q(y[3], y[0], y[1], y[2]);
+    const BoardTilt t = BoardTiltFromUp(UpInBoard(q.toRotationMatrix()));
+    return Eigen::Vector2d(t.roll_rad, t.pitch_rad);
+  };
+  Eigen::Matrix2d J;
+  const double h = 1e-6;
+  for (int c = 0; c < 2; ++c) {
+    const Eigen::Vector2d a = tilt(h * Eigen::Vector2d::Unit(c));
+    const Eigen::Vector2d b = tilt(-h * Eigen::Vector2d::Unit(c));
+    J.col(c) = Eigen::Vector2d(WrapAngle(a.x() - b.x()), WrapAngle(a.y() - b.y())) / (2.0 * h);
+  }
+  return J;
 }
 
 // The three-point scenario's convention: ground features with the paper's frame (map "D").
@@ -151,8 +212,13 @@ SmootherResult SolveRobustly(const Dataset& dataset, const std::vector<SmootherK
   }
   std::map<int, Eigen::Vector3d> first_landmarks = landmarks;
   for (const auto& [id, p] : first.landmarks_W) first_landmarks[id] = p;
+  // Continue from the first solution, calibration included (its keyframes are in its W).
+  SmootherProblemOptions continued_options = options;
+  continued_options.initial_T_B_C = first.calibration.T_B_C;
+  continued_options.initial_time_offset_s = first.calibration.time_offset_s;
+  if (first.calibration.q_W_M) continued_options.initial_q_W_M = first.calibration.q_W_M;
   SmootherResult continued = SolveSmoother(dataset, first.keyframes, first_landmarks,
-                                           first.plane ? first.plane : plane, options);
+                                           first.plane ? first.plane : plane, continued_options);
   const bool keep_continued =
       continued.usable &&
       (!direct.usable || continued.statistics.final_cost < direct.statistics.final_cost);
@@ -175,6 +241,26 @@ SmootherEstimator::SmootherEstimator(const EstimatorOptions& options) : options_
     throw InputError("smoother: max_iterations must be >= 1");
   if (options_.GetInt("keyframe_stride", 1) < 1)
     throw InputError("smoother: keyframe_stride must be >= 1");
+  ParseCameras(options_.GetString("cameras", "all"));  // validates the text
+  if (!(options_.GetDouble("extrinsics_prior_m", 0.1) > 0.0) ||
+      !(options_.GetDouble("extrinsics_prior_deg", 10.0) > 0.0))
+    throw InputError("smoother: extrinsics_prior_m and extrinsics_prior_deg must be > 0");
+  const double max_offset_ms = options_.GetDouble("max_time_offset_ms", 30.0);
+  if (!(max_offset_ms > 0.0 && max_offset_ms <= 200.0))
+    throw InputError("smoother: max_time_offset_ms must be in (0, 200]");
+  if (!(std::abs(options_.GetDouble("time_offset_init_ms", 0.0)) <= max_offset_ms))
+    throw InputError("smoother: |time_offset_init_ms| must not exceed max_time_offset_ms");
+  if (!(options_.GetDouble("gravity_window_s", 2.0) >= 0.5))
+    throw InputError("smoother: gravity_window_s must be >= 0.5");
+}
+
+std::vector<int> SmootherEstimator::CamerasFor(const Dataset& dataset) const {
+  std::vector<int> cameras = ParseCameras(options_.GetString("cameras", "all"));
+  if (!cameras.empty()) return cameras;
+  if (StreamHasMapTags(dataset, dataset.tags) || dataset.tags.empty()) cameras.push_back(0);
+  if (dataset.cameras.size() > 1 && StreamHasMapTags(dataset, dataset.tags1)) cameras.push_back(1);
+  if (cameras.empty()) cameras.push_back(0);
+  return cameras;
 }
 
 Applicability SmootherEstimator::AppliesTo(const Dataset& dataset) const {
@@ -194,7 +280,11 @@ Applicability SmootherEstimator::AppliesTo(const Dataset& dataset) const {
 
 std::string SmootherEstimator::SeedEstimatorFor(const Dataset& dataset) const {
   if (options_.Has("seed")) return options_.GetString("seed", "");
-  if (HasMapTags(dataset)) return "tag-pnp";
+  if (HasMapTags(dataset)) {
+    const std::vector<int> cameras = CamerasFor(dataset);
+    const bool cam0 = std::find(cameras.begin(), cameras.end(), 0) != cameras.end();
+    return cam0 && StreamHasMapTags(dataset, dataset.tags) ? "tag-pnp" : "tag-pnp-cam1";
+  }
   if (IsThreePointWorld(dataset)) return "three-point";
   if (!dataset.features.empty() && AllFeaturesInMap(dataset)) return "landmark-pnp";
   return "laser-ekf";
@@ -249,6 +339,16 @@ SmootherProblemOptions SmootherEstimator::ProblemOptionsFor(const Dataset& datas
       !has_intrinsics || ScenarioNumber(dataset, "bearing_noise_deg").has_value();
   o.laser_beam = BeamFromMap(dataset);
   o.estimate_plane = true;
+
+  // Tag cameras and calibration.
+  o.cameras = CamerasFor(dataset);
+  o.estimate_extrinsics = options_.GetBool("estimate_extrinsics", false);
+  o.extrinsics_prior_m = options_.GetDouble("extrinsics_prior_m", 0.1);
+  o.extrinsics_prior_rad = options_.GetDouble("extrinsics_prior_deg", 10.0) * kDeg;
+  o.estimate_time_offset = options_.GetBool("estimate_time_offset", false);
+  o.initial_time_offset_s = options_.GetDouble("time_offset_init_ms", 0.0) * 1e-3;
+  o.max_time_offset_s = options_.GetDouble("max_time_offset_ms", 30.0) * 1e-3;
+  o.calibration_covariance = options_.GetBool("calibration_covariance", true);
   return o;
 }
 
@@ -256,6 +356,10 @@ Estimate SmootherEstimator::Run(const Dataset& dataset) {
   const std::string seed_name = SeedEstimatorFor(dataset);
   if (seed_name == "landmark-pnp") {  // built in: no registry estimator takes features0 landmarks
     const std::vector<StampedPose> seed_poses = LandmarkPnpSeed(dataset);
+    return RunFromSeedPoses(dataset, seed_poses);
+  }
+  if (seed_name == "tag-pnp-cam1") {  // built in: tag-pnp reads tags0 only
+    const std::vector<StampedPose> seed_poses = TagPnpSeed(dataset, 1);
     return RunFromSeedPoses(dataset, seed_poses);
   }
   const EstimatorEntry* entry = FindEstimator(seed_name);
@@ -280,7 +384,13 @@ Estimate SmootherEstimator::Run(const Dataset& dataset) {
   }
   const Estimate seed_estimate = seed->Run(dataset);
   if (IsLaserOnly(dataset)) return RunLaserOnly(dataset, seed_estimate);
-  return RunFromSeedPoses(dataset, SeedPoses(seed_estimate));
+  std::vector<StampedPose> seed_poses = SeedPoses(seed_estimate);
+  // On a board map a seed that already estimated its own T_W_M reports T_W_B: back into M.
+  if (dataset.map.frame == MapFrame::kBoard && seed_estimate.T_W_M) {
+    const Pose T_M_W = seed_estimate.T_W_M->Inverse();
+    for (auto& pose : seed_poses) pose.T_W_B = T_M_W * pose.T_W_B;
+  }
+  return RunFromSeedPoses(dataset, seed_poses);
 }
 
 bool SmootherEstimator::IsLaserOnly(const Dataset& dataset) const {
@@ -322,17 +432,47 @@ Estimate SmootherEstimator::RunLaserOnly(const Dataset& dataset, const Estimate&
 }
 
 Estimate SmootherEstimator::RunFromSeedPoses(const Dataset& dataset,
-                                             const std::vector<StampedPose>& seed_poses) {
-  const SmootherProblemOptions problem_options = ProblemOptionsFor(dataset);
+                                             const std::vector<StampedPose>& seed_poses_in_map) {
+  SmootherProblemOptions problem_options = ProblemOptionsFor(dataset);
+  const bool board = dataset.map.frame == MapFrame::kBoard;
   std::vector<std::string> names = PoseQuantityNames(true);
   names.insert(names.end(), {"bgx", "bgy", "bgz", "bax", "bay", "baz"});
   const bool ground = problem_options.landmarks == LandmarkMode::kUnknownGround;
   if (ground) names.insert(names.end(), {"D", "gamma1", "gamma2"});
+  if (board) names.insert(names.end(), {"board_roll", "board_pitch"});
+  std::vector<std::string> units;
+  for (const auto& name : names)
+    units.push_back(name.rfind("board_", 0) == 0 ? "rad" : StandardUnit(name));
   Estimate estimate;
-  estimate.quantities = MakeQuantityTable(names);
+  estimate.quantities = QuantityTable(names, units);
 
   const std::vector<TimeNs> times =
       SmootherKeyframeTimes(dataset, options_.GetInt("keyframe_stride", 1));
+
+  // Board map: the seed poses are T_M_B. The initial gravity direction in M from the first
+  // gravity_window_s of them (later windows when that one fails), then the poses in that W.
+  std::vector<StampedPose> seed_poses = seed_poses_in_map;
+  if (board) {
+    std::vector<StampedPose> sorted = seed_poses;
+    std::sort(sorted.begin(), sorted.end(),
+              [](const StampedPose& a, const StampedPose& b) { return a.t_ns < b.t_ns; });
+    const TimeNs window_ns = SecondsToNs(options_.GetDouble("gravity_window_s", 2.0));
+    std::optional<Eigen::Vector3d> up_M;
+    std::string why = "no seed pose";
+    if (!sorted.empty()) {
+      for (TimeNs t = sorted.front().t_ns; !up_M && t <= sorted.back().t_ns; t += window_ns)
+        up_M = EstimateUpInBoardFromPositions(sorted, dataset.imu, t, t + window_ns, &why);
+    }
+    if (!up_M) {
+      estimate.failures["board gravity initialisation: " + why] += static_cast<int>(times.size());
+      last_result_ = SmootherResult{};
+      return estimate;
+    }
+    const Pose T_W_M0 = BoardToWorld(*up_M);
+    for (auto& pose : seed_poses) pose.T_W_B = T_W_M0 * pose.T_W_B;
+    problem_options.initial_q_W_M = T_W_M0.q;
+  }
+
   const SmootherInitialization init = InitializeFromSeed(dataset, times, seed_poses);
   // Keyframes where the seed failed are bridged by the IMU (forwards, or backwards before the
   // first seed pose) and get a solution: seed failures are not frames without a solution.
@@ -365,6 +505,41 @@ Estimate SmootherEstimator::RunFromSeedPoses(const Dataset& dataset,
     if (++it != result.landmarks_W.end())
       std::tie(gamma1, gamma2) = TriangleAngles(P1, P2, it->second);
   }
+
+  // Calibration and statistics of the solution.
+  const SmootherCalibration& cal = result.calibration;
+  BoardTilt tilt;
+  if (board && cal.q_W_M) {
+    estimate.T_W_M = Pose(*cal.q_W_M, Eigen::Vector3d::Zero());
+    tilt = BoardTiltFromUp(UpInBoard(cal.q_W_M->toRotationMatrix()));
+    EstimatedParameter roll{tilt.roll_rad, std::nullopt, "rad"};
+    EstimatedParameter pitch{tilt.pitch_rad, std::nullopt, "rad"};
+    if (cal.tilt_covariance) {
+      const Eigen::Matrix2d J = BoardTiltJacobian(*cal.q_W_M);
+      const Eigen::Matrix2d C = J * *cal.tilt_covariance * J.transpose();
+      roll.sigma = std::sqrt(std::max(C(0, 0), 0.0));
+      pitch.sigma = std::sqrt(std::max(C(1, 1), 0.0));
+    }
+    estimate.parameters["board_roll"] = roll;
+    estimate.parameters["board_pitch"] = pitch;
+  }
+  if (problem_options.estimate_time_offset)
+    estimate.parameters["time_offset"] = {cal.time_offset_s, cal.time_offset_sigma_s, "s"};
+  if (problem_options.estimate_extrinsics) {
+    for (const auto& [cam, T_B_C] : cal.T_B_C) {
+      EstimatedExtrinsic extrinsic;
+      extrinsic.T_B_C = T_B_C;
+      auto it = cal.T_B_C_covariance.find(cam);
+      if (it != cal.T_B_C_covariance.end()) extrinsic.covariance = it->second;
+      estimate.extrinsics[dataset.cameras[cam].name] = extrinsic;
+    }
+  }
+  if (result.corner_statistics.corners > 0) {
+    estimate.parameters["reprojection_rms"] = {result.corner_statistics.rms_px, std::nullopt, "px"};
+    estimate.parameters["downweighted_corners"] = {
+        static_cast<double>(result.corner_statistics.downweighted), std::nullopt, ""};
+  }
+
   if (problem_options.compute_covariance) estimate.covariance_names = PoseQuantityNames(false);
   for (size_t k = 0; k < result.keyframes.size(); ++k) {
     const SmootherKeyframe& kf = result.keyframes[k];
@@ -373,6 +548,7 @@ Estimate SmootherEstimator::RunFromSeedPoses(const Dataset& dataset,
     const ImuBiases& b = kf.state.biases;
     values.insert(values.end(), {b.b_g.x(), b.b_g.y(), b.b_g.z(), b.b_a.x(), b.b_a.y(), b.b_a.z()});
     if (ground) values.insert(values.end(), {D, gamma1, gamma2});
+    if (board) values.insert(values.end(), {tilt.roll_rad, tilt.pitch_rad});
     estimate.quantities.Append(kf.t_ns, values);
     estimate.poses.push_back({kf.t_ns, T_W_B});
     if (k < result.pose_covariances.size() && result.pose_covariances[k]) {

@@ -34,6 +34,27 @@
 //   graduated       0/1: with a bias prior tighter than the generic one and no known map points
 //                   (laser, unknown landmarks), also solve with the generic prior first and keep
 //                   the lower-cost of the two solutions (1)
+//
+// Calibration (issue 12). Tag corners of tags0 (cam0) and tags1 (cam1) each enter with their own
+// camera model and T_B_C.
+//   cameras              all | cam0 | cam1 | cam0,cam1: whose tags are used (all: every camera
+//                        with map tags). Seed: tag-pnp when cam0 is used, else a built-in per-frame
+//                        PnP on tags1 (seed name "tag-pnp-cam1").
+//   estimate_extrinsics  0/1: T_B_C of each used camera as parameters (0)
+//   extrinsics_prior_m, extrinsics_prior_deg: the weak prior around the dataset's T_B_C (0.1, 10)
+//   estimate_time_offset 0/1: one camera-IMU time offset t_d (exposure = stamp + t_d) (0)
+//   time_offset_init_ms  initial t_d (0)     max_time_offset_ms  |t_d| bound (30)
+//   calibration_covariance 0/1: marginal covariances of the estimated calibration (1)
+//   gravity_window_s     board maps: seed window for the initial gravity direction (2)
+// On a board map (MapFrame::kBoard) the gravity direction in M is always estimated: the seed's
+// poses are in M; EstimateUpInBoardFromPositions (solver/board/board_gravity_from_positions.h)
+// gives the initial up_M from the first gravity_window_s of them and the accelerometer; the
+// smoother estimates the tilt (2 DoF) and reports poses in the W of core/board_frame.h,
+// Estimate::T_W_M, the quantities board_roll and board_pitch (constant) and Estimate::parameters
+// board_roll, board_pitch with sigmas. Parameters reported on every tag dataset: reprojection_rms
+// [px] and downweighted_corners (corners whose whitened error exceeds loss_scale) of the final
+// solution; time_offset [s] when estimated; Estimate::extrinsics (T_B_C with the 6 x 6 covariance
+// of [p; dtheta]) per estimated camera.
 #pragma once
 
 #include <string>
@@ -52,7 +73,8 @@ class SmootherEstimator : public Estimator {
   Applicability AppliesTo(const Dataset& dataset) const override;
   Estimate Run(const Dataset& dataset) override;
 
-  // The same from given seed poses instead of running the seed estimator (tests, benchmarks).
+  // The same from given seed poses instead of running the seed estimator (tests, benchmarks). The
+  // poses are in the map's frame: W, or the board frame M on a board map (T_M_B).
   Estimate RunFromSeedPoses(const Dataset& dataset, const std::vector<StampedPose>& seed_poses);
 
   // The seed estimator used for a dataset, and the problem options derived from it.
@@ -62,6 +84,8 @@ class SmootherEstimator : public Estimator {
   const SmootherResult& last_result() const { return last_result_; }
 
  private:
+  // Camera indices whose tags enter (option `cameras`).
+  std::vector<int> CamerasFor(const Dataset& dataset) const;
   // Laser-only data: keyframes from the laser EKF's modes, output the modes' quantities.
   Estimate RunLaserOnly(const Dataset& dataset, const Estimate& seed_estimate);
   bool IsLaserOnly(const Dataset& dataset) const;

@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/errors.h"
 #include "core/random.h"
+#include "solver/board/frame_pnp.h"
+#include "solver/board/pnp_initial_state.h"
 #include "solver/pose/corner_pnp.h"
+#include "solver/pose/tags_camera.h"
 
 namespace mavloc {
 
@@ -38,10 +42,12 @@ double ScenarioDouble(const Dataset& dataset, const std::string& key, double fal
 
 }  // namespace
 
-TagEkfEstimator::TagEkfEstimator(const EstimatorOptions& options) : options_(options) {
+TagEkfEstimator::TagEkfEstimator(const EstimatorOptions& options)
+    : options_(options), board_(ParseBoardInitOptions(options)) {
   const std::string init = options.GetString("init", "truth");
-  if (init != "truth" && init != "zero" && init != "perturbed")
-    throw InputError("", 0, "init", "must be truth, zero or perturbed (got '" + init + "')");
+  if (init != "truth" && init != "zero" && init != "perturbed" && init != "window")
+    throw InputError("", 0, "init",
+                     "must be truth, zero, perturbed or window (got '" + init + "')");
   for (const char* key :
        {"init_pos_sigma", "init_vel_sigma", "init_att_sigma", "init_ba_sigma", "init_bg_sigma",
         "init_p0_scale", "delay_s", "rate_hz", "accel_var", "gyro_var", "accel_bias_var",
@@ -51,25 +57,55 @@ TagEkfEstimator::TagEkfEstimator(const EstimatorOptions& options) : options_(opt
   }
 }
 
+std::string TagEkfEstimator::InitMode(const Dataset& dataset) const {
+  if (options_.Has("init")) return options_.GetString("init", "truth");
+  if (dataset.map.frame == MapFrame::kBoard) return "window";
+  const auto it = dataset.scenario_info.find("filter_init");
+  return it != dataset.scenario_info.end() ? it->second : "truth";
+}
+
 Applicability TagEkfEstimator::AppliesTo(const Dataset& dataset) const {
   if (dataset.imu.samples.size() < 2) return Applicability::No("needs imu0 samples");
-  const std::string camera = options_.GetString("camera", "cam0");
-  if (dataset.Camera(camera) == nullptr)
-    return Applicability::No("needs the calibration of " + camera);
+  const std::string camera = TagsCameraMissing(dataset, options_.GetString("camera", ""));
+  if (!camera.empty()) return Applicability::No(camera);
   if (options_.GetBool("use_tags", true)) {
     if (dataset.tags.empty()) return Applicability::No("needs tags0 observations");
     if (dataset.map.tags.empty()) return Applicability::No("needs the tags of map.yaml");
   }
-  const std::string init = options_.GetString("init", dataset.scenario_info.count("filter_init")
-                                                          ? dataset.scenario_info.at("filter_init")
-                                                          : "truth");
-  if (init != "zero" && dataset.ground_truth.empty())
-    return Applicability::No("init=" + init + " needs ground truth (use --option init=zero)");
+  const std::string init = InitMode(dataset);
+  if (dataset.map.frame == MapFrame::kBoard) {
+    if (!options_.GetBool("use_tags", true))
+      return Applicability::No("board map: use_tags=0 leaves nothing to find gravity with");
+    const std::string board = BoardWorldMissing(dataset);
+    if (!board.empty()) return Applicability::No(board);
+    if (init == "truth" || init == "perturbed")
+      return Applicability::No("init=" + init +
+                               ": on a board map the ground truth is not in the filter's W "
+                               "(use init=window, the default there, or init=zero)");
+  }
+  if (init == "window" && dataset.tags.empty())
+    return Applicability::No("init=window needs tags0 observations");
+  if ((init == "truth" || init == "perturbed") && dataset.ground_truth.empty())
+    return Applicability::No("init=" + init +
+                             " needs ground truth (use --option init=window or init=zero)");
   return Applicability::Yes();
 }
 
 Estimate TagEkfEstimator::Run(const Dataset& dataset) {
-  const CameraSensor& camera = *dataset.Camera(options_.GetString("camera", "cam0"));
+  const std::string init = InitMode(dataset);  // of the input: a board map defaults to window
+  return RunInWorldFrame(dataset, board_, [&](const Dataset& dataset_W, const BoardWorld* board) {
+    EstimatorOptions options = options_;
+    options.Set("init", init);
+    TagEkfEstimator world(options);
+    if (board == nullptr) return world.RunInWorld(dataset_W);
+    return world.RunInWorld(dataset_W,
+                            std::make_pair(board->t_init_begin_ns, board->t_init_end_ns));
+  });
+}
+
+Estimate TagEkfEstimator::RunInWorld(const Dataset& dataset,
+                                     std::optional<std::pair<TimeNs, TimeNs>> window_ns) {
+  const CameraSensor& camera = *TagsCamera(dataset, options_.GetString("camera", ""));
   TagEkfOptions ekf_options;
   TagEkfNoise& noise = ekf_options.noise;
   noise.accel_var = options_.GetDouble("accel_var", noise.accel_var);
@@ -84,20 +120,49 @@ Estimate TagEkfEstimator::Run(const Dataset& dataset) {
       options_.GetDouble("delay_s", ScenarioDouble(dataset, "processing_delay_s", 0.0));
   ekf_options.buffer_s = std::max(1.0, 2.0 * delay_s + 0.5);
   const bool use_tags = options_.GetBool("use_tags", true);
-  const std::string init = options_.GetString("init", dataset.scenario_info.count("filter_init")
-                                                          ? dataset.scenario_info.at("filter_init")
-                                                          : "truth");
+  const std::string init = InitMode(dataset);
+  const bool window = init == "window";
 
   // Initial state and covariance.
   const std::vector<ImuSample>& imu = dataset.imu.samples;
   Eigen::Matrix<double, 15, 1> sigma;
-  sigma << Eigen::Vector3d::Constant(options_.GetDouble("init_pos_sigma", 0.313)),
+  sigma << Eigen::Vector3d::Constant(options_.GetDouble("init_pos_sigma", window ? 0.02 : 0.313)),
       Eigen::Vector3d::Constant(options_.GetDouble("init_vel_sigma", 0.1)),
-      Eigen::Vector3d::Constant(options_.GetDouble("init_att_sigma", 0.05)),
+      Eigen::Vector3d::Constant(options_.GetDouble("init_att_sigma", window ? 0.02 : 0.05)),
       Eigen::Vector3d::Constant(options_.GetDouble("init_ba_sigma", 0.05)),
       Eigen::Vector3d::Constant(options_.GetDouble("init_bg_sigma", 0.005));
   TagEkfVector x0 = TagEkfVector::Zero();
-  if (init != "zero") {
+  size_t k_start = 0;  // the first IMU sample the filter sees
+  // init=window: the frames up to the initial one went into x0 and are not applied again.
+  TimeNs t_window_end_ns = std::numeric_limits<TimeNs>::min();
+  Estimate estimate;
+  if (window) {
+    // The initial window: the board initialisation's, or as it defines its first one.
+    if (!window_ns) {
+      if (const std::optional<TimeNs> t_first =
+              FirstMapTagTime(dataset, ResolveMinTags(dataset, board_.min_tags))) {
+        const TimeNs t_begin = std::max(*t_first, imu.front().t_ns);
+        window_ns = {t_begin,
+                     std::min(t_begin + SecondsToNs(board_.gravity_init_s), imu.back().t_ns)};
+      }
+    }
+    std::optional<PnpInitialState> start;
+    if (window_ns) {
+      start = InitialStateFromPoses(FramePnpPoses(dataset, window_ns->first, window_ns->second,
+                                                  &estimate.failures,
+                                                  ResolveMinTags(dataset, board_.min_tags)));
+    }
+    if (!start) {
+      estimate.CountFailure("init=window: no PnP pose in the initial window");
+      return estimate;
+    }
+    while (k_start + 1 < imu.size() && imu[k_start].t_ns < start->t_ns) ++k_start;
+    const double dt_s = NsToSeconds(imu[k_start].t_ns - start->t_ns);
+    x0.segment<3>(kTagEkfPos) = start->T_W_B.p + dt_s * start->v_W;
+    x0.segment<3>(kTagEkfVel) = start->v_W;
+    x0.segment<3>(kTagEkfAtt) = Euler123FromRotation(start->T_W_B.R());
+    t_window_end_ns = start->t_ns;
+  } else if (init != "zero") {
     const GroundTruthState& gt = NearestTruth(dataset.ground_truth, imu.front().t_ns);
     x0.segment<3>(kTagEkfPos) = gt.T_W_B.p;
     x0.segment<3>(kTagEkfVel) = gt.v_W;
@@ -114,13 +179,17 @@ Estimate TagEkfEstimator::Run(const Dataset& dataset) {
   const TagEkfMatrix P0 = (p0_scale * sigma).cwiseAbs2().asDiagonal();
 
   // Per-tag pose measurements of every frame, with the time they become available.
-  Estimate estimate;
   std::vector<PendingFrame> frames;
   if (use_tags) {
     const TimeNs delay_ns = SecondsToNs(delay_s);
     for (size_t begin = 0; begin < dataset.tags.size();) {
       size_t end = begin;
       while (end < dataset.tags.size() && dataset.tags[end].t_ns == dataset.tags[begin].t_ns) ++end;
+      if (dataset.tags[begin].t_ns <= t_window_end_ns) {
+        estimate.CountFailure("frame inside the initialisation window");
+        begin = end;
+        continue;
+      }
       PendingFrame frame;
       frame.t_exposure_ns = dataset.tags[begin].t_ns;
       frame.t_available_ns = frame.t_exposure_ns + delay_ns;
@@ -149,10 +218,10 @@ Estimate TagEkfEstimator::Run(const Dataset& dataset) {
   estimate.covariance_names = PoseQuantityNames(/*with_velocity=*/true);
 
   TagEkf ekf(ekf_options, camera.T_B_C, dataset.map.tags);
-  ekf.Initialize(imu.front(), x0, P0);
+  ekf.Initialize(imu[k_start], x0, P0);
   const double rate_hz = options_.GetDouble("rate_hz", 100.0);
   const TimeNs output_step_ns = std::max<TimeNs>(1, SecondsToNs(1.0 / std::max(rate_hz, 1e-3)));
-  TimeNs next_output_ns = imu.front().t_ns;
+  TimeNs next_output_ns = imu[k_start].t_ns;
   auto record = [&]() {
     const TagEkfVector& x = ekf.state();
     const Eigen::Vector3d alpha = x.segment<3>(kTagEkfAtt);
@@ -183,15 +252,15 @@ Estimate TagEkfEstimator::Run(const Dataset& dataset) {
       if (result.unknown_tag > 0) estimate.failures["tag not in map"] += result.unknown_tag;
     }
   };
-  // Frames exposed before the first IMU sample cannot be used.
-  while (next_frame < frames.size() && frames[next_frame].t_exposure_ns < imu.front().t_ns) {
+  // Frames exposed before the filter's first IMU sample cannot be used.
+  while (next_frame < frames.size() && frames[next_frame].t_exposure_ns < imu[k_start].t_ns) {
     estimate.CountFailure("measurement before the first IMU sample");
     ++next_frame;
   }
-  apply_available(imu.front().t_ns);
+  apply_available(imu[k_start].t_ns);
   record();
   next_output_ns += output_step_ns;
-  for (size_t k = 1; k < imu.size(); ++k) {
+  for (size_t k = k_start + 1; k < imu.size(); ++k) {
     ekf.Propagate(imu[k]);
     apply_available(imu[k].t_ns);
     if (imu[k].t_ns >= next_output_ns) {

@@ -1,24 +1,33 @@
 #include "solver/estimators/tag_pnp_estimator.h"
 
 #include "solver/pose/corner_pnp.h"
+#include "solver/pose/tags_camera.h"
 
 namespace mavloc {
 
 TagPnpEstimator::TagPnpEstimator(const EstimatorOptions& options)
-    : camera_name_(options.GetString("camera", "cam0")) {}
+    : camera_name_(options.GetString("camera", "")), board_(ParseBoardInitOptions(options)) {}
 
 Applicability TagPnpEstimator::AppliesTo(const Dataset& dataset) const {
   if (dataset.tags.empty()) return Applicability::No("needs tags0 observations");
   if (dataset.map.tags.empty()) return Applicability::No("needs the tags of map.yaml");
-  if (dataset.Camera(camera_name_) == nullptr)
-    return Applicability::No("needs the calibration of " + camera_name_);
+  const std::string camera = TagsCameraMissing(dataset, camera_name_);
+  if (!camera.empty()) return Applicability::No(camera);
+  const std::string board = BoardWorldMissing(dataset);
+  if (!board.empty()) return Applicability::No(board);
   return Applicability::Yes();
 }
 
 Estimate TagPnpEstimator::Run(const Dataset& dataset) {
+  return RunInWorldFrame(dataset, board_, [&](const Dataset& dataset_W, const BoardWorld*) {
+    return RunInWorld(dataset_W);
+  });
+}
+
+Estimate TagPnpEstimator::RunInWorld(const Dataset& dataset) const {
   Estimate estimate;
   estimate.quantities = MakeQuantityTable(PoseQuantityNames(/*with_velocity=*/false));
-  const CameraSensor& camera = *dataset.Camera(camera_name_);
+  const CameraSensor& camera = *TagsCamera(dataset, camera_name_);
   // tags0 is time-ordered: one frame is a run of rows with the same stamp.
   for (size_t begin = 0; begin < dataset.tags.size();) {
     size_t end = begin;

@@ -1,12 +1,18 @@
-// tag-pnp: the vision-only baseline of the AprilTag paper (III-A): for every cam0 frame, the pose
+// tag-pnp: the vision-only baseline of the AprilTag paper (III-A): for every tags0 frame, the pose
 // T_W_B from all the frame's tag corners at once (solver/pose/corner_pnp.h: IPPE + LM on the
 // reprojection error), with no IMU and no filtering. Frames with no tag in the map, or where the
 // PnP fails, are counted as failures by reason. Reports x, y, z, roll, pitch, yaw.
-// Options: camera=cam0.
+// On a board map (MapFrame::kBoard) the map is first put into the gravity-aligned W of
+// core/board_frame.h from the first gravity_init_s seconds of PnP poses and IMU
+// (solver/board/board_world.h); every frame, those of the window included, is then solved in W,
+// and the estimate carries T_W_M and board_roll, board_pitch.
+// Options: camera (default: the tags' camera, cameras[0]), gravity_init_s (2), gravity_min_tags
+// (2).
 #pragma once
 
 #include <string>
 
+#include "solver/board/board_world.h"
 #include "solver/estimator.h"
 
 namespace mavloc {
@@ -19,7 +25,10 @@ class TagPnpEstimator : public Estimator {
   Estimate Run(const Dataset& dataset) override;
 
  private:
+  Estimate RunInWorld(const Dataset& dataset) const;
+
   std::string camera_name_;
+  BoardInitOptions board_;
 };
 
 }  // namespace mavloc

@@ -4,6 +4,7 @@
 
 #include "core/errors.h"
 #include "core/random.h"
+#include "solver/pose/tags_camera.h"
 
 namespace mavloc {
 
@@ -26,7 +27,7 @@ Upright2pFrameResult Upright2pFrame(const TagFrame& frame, const Dataset& datase
                                     const StampedRollPitch& roll_pitch,
                                     const Upright2pSettings& settings) {
   Upright2pFrameResult out;
-  const CameraSensor& camera = *dataset.Camera("cam0");
+  const CameraSensor& camera = *TagsCamera(dataset);
   std::vector<Eigen::Vector3d> X_W;
   std::vector<Eigen::Vector2d> xy_C;
   FrameCorners(frame.observations, dataset.map, camera.model, &X_W, &xy_C);
@@ -52,18 +53,29 @@ Upright2pFrameResult Upright2pFrame(const TagFrame& frame, const Dataset& datase
 }
 
 Upright2pEstimator::Upright2pEstimator(const EstimatorOptions& options)
-    : options_(options), settings_(ParseUpright2pSettings(options)) {}
+    : options_(options),
+      settings_(ParseUpright2pSettings(options)),
+      board_(ParseBoardInitOptions(options)) {}
 
 Applicability Upright2pEstimator::AppliesTo(const Dataset& dataset) const {
   if (dataset.tags.empty()) return Applicability::No("needs tags0 corner observations");
   if (dataset.map.tags.empty()) return Applicability::No("needs tags (markers) in map.yaml");
-  if (!dataset.Camera("cam0")) return Applicability::No("needs cam0 calibration");
+  const std::string camera = TagsCameraMissing(dataset);
+  if (!camera.empty()) return Applicability::No(camera);
   const std::string missing = RollPitchSourceMissing(dataset, settings_.source);
   if (!missing.empty()) return Applicability::No(missing);
+  const std::string board = BoardWorldMissing(dataset);
+  if (!board.empty()) return Applicability::No(board);
   return Applicability::Yes();
 }
 
 Estimate Upright2pEstimator::Run(const Dataset& dataset) {
+  return RunInWorldFrame(dataset, board_, [&](const Dataset& dataset_W, const BoardWorld*) {
+    return RunInWorld(dataset_W);
+  });
+}
+
+Estimate Upright2pEstimator::RunInWorld(const Dataset& dataset) {
   Estimate estimate;
   estimate.quantities = MakeQuantityTable(PoseQuantityNames(/*with_velocity=*/false));
   RollPitchSource source(dataset, settings_.source, options_);

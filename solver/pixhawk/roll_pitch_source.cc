@@ -9,6 +9,7 @@
 #include "core/tag_geometry.h"
 #include "solver/attitude/gravity_ekf.h"
 #include "solver/estimators/gravity_ekf_estimator.h"
+#include "solver/pose/tags_camera.h"
 
 namespace mavloc {
 
@@ -74,7 +75,7 @@ std::optional<StampedRollPitch> RollPitchSource::At(TimeNs t_exposure_ns) {
 
 std::vector<TagFrame> GroupTagFrames(const Dataset& dataset) {
   std::map<TimeNs, TagFrame> frames;
-  const CameraSensor* cam0 = dataset.Camera("cam0");
+  const CameraSensor* cam0 = TagsCamera(dataset);
   if (cam0) {
     for (const auto& f : cam0->frames) frames[f.t_ns].t_ns = f.t_ns;
   }

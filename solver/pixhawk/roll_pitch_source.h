@@ -58,8 +58,8 @@ class RollPitchSource {
   AttitudeBuffer buffer_;
 };
 
-// The frames of a dataset's tags0 stream: the stamps of cam0's frames (or, without cam0 frames,
-// the distinct tag stamps), each with its observations.
+// The frames of a dataset's tags0 stream: the stamps of the tags' camera's frames (cameras[0]; or,
+// without its frames, the distinct tag stamps), each with its observations.
 struct TagFrame {
   TimeNs t_ns = 0;
   std::vector<TagObservation> observations;

@@ -57,6 +57,7 @@ std::vector<TimeNs> SmootherKeyframeTimes(const Dataset& dataset, int stride) {
     for (const auto& f : dataset.cameras.front().frames) add(f.t_ns);
   for (const auto& o : dataset.features) add(o.t_ns);
   for (const auto& o : dataset.tags) add(o.t_ns);
+  for (const auto& o : dataset.tags1) add(o.t_ns);
   for (const auto& o : dataset.laser) add(o.t_ns);
   std::sort(times.begin(), times.end());
   times.erase(std::unique(times.begin(), times.end()), times.end());
@@ -297,6 +298,29 @@ std::vector<StampedPose> LandmarkPnpSeed(const Dataset& dataset,
       continue;
     }
     poses.push_back({t_ns, r.T_W_B});
+  }
+  return poses;
+}
+
+std::vector<StampedPose> TagPnpSeed(const Dataset& dataset, int camera_index,
+                                    std::map<std::string, int>* failures) {
+  std::vector<StampedPose> poses;
+  const std::vector<TagObservation>* stream = camera_index == 0   ? &dataset.tags
+                                              : camera_index == 1 ? &dataset.tags1
+                                                                  : nullptr;
+  if (!stream || camera_index >= static_cast<int>(dataset.cameras.size())) return poses;
+  const CameraSensor& camera = dataset.cameras[camera_index];
+  for (size_t begin = 0; begin < stream->size();) {
+    size_t end = begin;
+    while (end < stream->size() && (*stream)[end].t_ns == (*stream)[begin].t_ns) ++end;
+    const std::vector<TagObservation> frame(stream->begin() + begin, stream->begin() + end);
+    const CornerPnpResult r = CornerPnp(frame, dataset.map.tags, camera);
+    if (r.ok) {
+      poses.push_back({frame.front().t_ns, r.T_W_B});
+    } else if (failures) {
+      ++(*failures)["tag-pnp " + camera.name + ": " + r.reason];
+    }
+    begin = end;
   }
   return poses;
 }

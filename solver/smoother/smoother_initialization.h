@@ -29,7 +29,7 @@ struct SmootherInitialization {
 };
 
 // Keyframe times: the cam0 frame times and the times of visual measurements (features0, tags0,
-// laser0) that lie inside the IMU stream, sorted and unique; every stride-th one is kept.
+// tags1, laser0) that lie inside the IMU stream, sorted and unique; every stride-th one is kept.
 std::vector<TimeNs> SmootherKeyframeTimes(const Dataset& dataset, int stride = 1);
 
 // The seed's poses as stamped T_W_B: Estimate::poses, or else the quantities x y z roll pitch yaw.
@@ -82,6 +82,13 @@ namespace mavloc {
 // pose (counted in *failures when given).
 std::vector<StampedPose> LandmarkPnpSeed(const Dataset& dataset,
                                          std::map<std::string, int>* failures = nullptr);
+
+// A seed from one camera's tags (camera_index 0: tags0, 1: tags1) with that camera's calibration:
+// per frame, CornerPnp of solver/pose/corner_pnp.h on all its map tags (tag-pnp reads tags0 only;
+// this covers cam1-only data). Poses are in the map's frame (W, or the board frame M on a board
+// map). Frames without a pose are counted in *failures when given.
+std::vector<StampedPose> TagPnpSeed(const Dataset& dataset, int camera_index,
+                                    std::map<std::string, int>* failures = nullptr);
 
 }  // namespace mavloc
 

@@ -10,15 +10,19 @@
 #include <cstdio>
 #include <memory>
 
+#include "core/board_frame.h"
 #include "core/rotation.h"
 #include "core/tag_geometry.h"
+#include "solver/smoother/imu_time_shift.h"
 #include "solver/smoother/residuals/bias_random_walk_factor.h"
+#include "solver/smoother/residuals/calibrated_reprojection_factor.h"
 #include "solver/smoother/residuals/feature_bearing_factor.h"
 #include "solver/smoother/residuals/imu_factor.h"
 #include "solver/smoother/residuals/laser_spot_plane_factor.h"
 #include "solver/smoother/residuals/map_point_reprojection_factor.h"
 #include "solver/smoother/residuals/pose_prior_factor.h"
 #include "solver/smoother/residuals/vector_prior_factor.h"
+#include "solver/smoother/tilt_manifold.h"
 
 namespace mavloc {
 
@@ -82,6 +86,44 @@ double Seconds(std::chrono::steady_clock::duration d) {
   return std::chrono::duration<double>(d).count();
 }
 
+// Calibration storage: one extrinsic per camera (quaternion in Eigen order x, y, z, w).
+struct ExtrinsicBlocks {
+  std::array<double, 4> q{};
+  std::array<double, 3> p{};
+  Pose prior;  // the dataset's T_B_C
+};
+
+std::array<double, 4> QuaternionBlock(const Eigen::Quaterniond& q_raw) {
+  const Eigen::Quaterniond q = q_raw.normalized();
+  return {q.x(), q.y(), q.z(), q.w()};
+}
+
+Eigen::Quaterniond QuaternionFromBlock(const std::array<double, 4>& b) {
+  return Eigen::Quaterniond(b[3], b[0], b[1], b[2]).normalized();
+}
+
+// The tag observations of camera index c (tags0, tags1); empty for other indices.
+const std::vector<TagObservation>& TagStream(const Dataset& dataset, int c) {
+  static const std::vector<TagObservation> kNone;
+  return c == 0 ? dataset.tags : c == 1 ? dataset.tags1 : kNone;
+}
+
+// Ceres' quaternion tangent is a left perturbation of half the angle:
+// q (+) delta = [cos|delta|, sin|delta| delta/|delta|] q, so dtheta_right = 2 R^T delta. Returns
+// the 6 x 6 covariance of [p; dtheta_right] from the tangent-space blocks.
+Eigen::Matrix<double, 6, 6> PoseCovarianceFromTangent(const Eigen::Matrix3d& pp,
+                                                      const Eigen::Matrix3d& qq,
+                                                      const Eigen::Matrix3d& pq,
+                                                      const Eigen::Quaterniond& q) {
+  const Eigen::Matrix3d M = 2.0 * q.toRotationMatrix().transpose();
+  Eigen::Matrix<double, 6, 6> C;
+  C.topLeftCorner<3, 3>() = pp;
+  C.topRightCorner<3, 3>() = pq * M.transpose();
+  C.bottomLeftCorner<3, 3>() = M * pq.transpose();
+  C.bottomRightCorner<3, 3>() = M * qq * M.transpose();
+  return C;
+}
+
 std::string LinearSolverDescription(const ceres::Solver::Options& o) {
   return std::string(ceres::LinearSolverTypeToString(o.linear_solver_type)) + " (" +
          ceres::SparseLinearAlgebraLibraryTypeToString(o.sparse_linear_algebra_library_type) + ")";
@@ -124,8 +166,34 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
     plane_d[0] = plane.d_m;
   }
 
+  // Calibration blocks (kept over the relinearization rounds). The calibrated residual is used
+  // when anything in it is estimated or not the identity / zero.
+  const bool board = options.initial_q_W_M.has_value();
+  const bool shifted = options.estimate_time_offset || options.initial_time_offset_s != 0.0;
+  const bool calibrated = board || options.estimate_extrinsics || shifted;
+  std::map<int, ExtrinsicBlocks> extrinsics;
+  for (const int c : options.cameras) {
+    if (TagStream(dataset, c).empty()) continue;
+    if (c < 0 || c >= static_cast<int>(dataset.cameras.size())) {
+      result.message =
+          "tags" + std::to_string(c) + " without the calibration of cam" + std::to_string(c);
+      return result;
+    }
+    ExtrinsicBlocks e;
+    e.prior = dataset.cameras[c].T_B_C;
+    auto it = options.initial_T_B_C.find(c);
+    const Pose start = it != options.initial_T_B_C.end() ? it->second : e.prior;
+    e.q = QuaternionBlock(start.q);
+    e.p = {start.p.x(), start.p.y(), start.p.z()};
+    extrinsics[c] = e;
+  }
+  std::array<double, 1> time_offset{options.initial_time_offset_s};
+  std::array<double, 4> q_W_M =
+      QuaternionBlock(options.initial_q_W_M.value_or(Eigen::Quaterniond::Identity()));
+
   const ImuNoise noise = WithFloor(dataset.imu.noise, options.noise_floor);
   ceres::EigenQuaternionManifold quaternion_manifold;
+  TiltManifold tilt_manifold;
   ceres::SphereManifold<3> sphere_manifold;
   ceres::SubsetManifold fix_yz(3, {1, 2});  // P2 on the x axis
   ceres::SubsetManifold fix_z(3, {2});      // ground features on z = 0
@@ -146,6 +214,14 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
     for (int k = 0; k + 1 < n; ++k)
       preintegrations.emplace_back(dataset.imu.samples, times[k], times[k + 1], linearization[k],
                                    noise);
+    // The motion around each keyframe over +-max_time_offset_s for the time offset.
+    const auto zero_shift = std::make_shared<const ImuTimeShift>();
+    std::vector<std::shared_ptr<const ImuTimeShift>> shifts(n, zero_shift);
+    if (calibrated && shifted) {
+      for (int k = 0; k < n; ++k)
+        shifts[k] = std::make_shared<const ImuTimeShift>(FitImuTimeShift(
+            dataset.imu.samples, times[k], linearization[k], options.max_time_offset_s));
+    }
     result.statistics.preintegration_s += Seconds(std::chrono::steady_clock::now() - t_pre);
 
     ceres::Problem::Options problem_options;
@@ -184,6 +260,7 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
     // Visual residuals. An observation is dropped when no keyframe is at its time, or when its
     // point is behind the camera at the initial state (the residual is undefined there).
     std::map<std::string, int> dropped;
+    std::vector<ceres::ResidualBlockId> corner_residuals;
     int num_visual = 0;
     int num_anchored = 0;  // residuals against known map points (they fix the gauge)
     auto initial_depth = [&](int k, const Eigen::Vector3d& p_W) {
@@ -235,25 +312,78 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
         }
         ++num_visual;
       }
-      for (const TagObservation& obs : dataset.tags) {
-        const int k = KeyframeAt(times, obs.t_ns);
-        auto it = dataset.map.tags.find(obs.tag_id);
-        if (k < 0 || it == dataset.map.tags.end()) {
-          ++dropped[k < 0 ? "tag: no keyframe at its time" : "tag: not in the map"];
-          continue;
-        }
-        const std::array<Eigen::Vector3d, 4> corners_W = TagCornersInWorld(it->second);
-        for (int c = 0; c < 4; ++c) {
-          if (initial_depth(k, corners_W[c]) <= 0.01) {
-            ++dropped["tag corner: behind the camera at the seed"];
+      // Tag corners of every selected camera. Map coordinates are in W, or in M on a board map.
+      const Eigen::Matrix3d R_W_M_now = QuaternionFromBlock(q_W_M).toRotationMatrix();
+      bool shared_blocks_added = false;
+      for (auto& [cam, e] : extrinsics) {
+        const CameraSensor& sensor = dataset.cameras[cam];
+        bool camera_blocks_added = false;
+        const Pose T_B_C_now(QuaternionFromBlock(e.q), Eigen::Vector3d(e.p.data()));
+        for (const TagObservation& obs : TagStream(dataset, cam)) {
+          const int k = KeyframeAt(times, obs.t_ns);
+          auto it = dataset.map.tags.find(obs.tag_id);
+          if (k < 0 || it == dataset.map.tags.end()) {
+            ++dropped[k < 0 ? "tag: no keyframe at its time" : "tag: not in the map"];
             continue;
           }
-          problem.AddResidualBlock(
-              MapPointReprojectionFactor::Create(camera->model, camera->T_B_C, corners_W[c],
-                                                 obs.corners_px[c], options.pixel_sigma_px),
-              loss.get(), blocks[k].q.data(), blocks[k].p.data());
-          ++num_visual;
-          ++num_anchored;
+          const std::array<Eigen::Vector3d, 4> corners_map = TagCornersInWorld(it->second);
+          const Pose T_C_W =
+              (Pose(FromBlocks(blocks[k]).q_W_B, Eigen::Vector3d(blocks[k].p.data())) *
+               (calibrated ? T_B_C_now : sensor.T_B_C))
+                  .Inverse();
+          for (int c = 0; c < 4; ++c) {
+            const Eigen::Vector3d p_W =
+                calibrated ? Eigen::Vector3d(R_W_M_now * corners_map[c]) : corners_map[c];
+            if ((T_C_W * p_W).z() <= 0.01) {
+              ++dropped["tag corner: behind the camera at the seed"];
+              continue;
+            }
+            ceres::ResidualBlockId id;
+            if (!calibrated) {
+              id = problem.AddResidualBlock(
+                  MapPointReprojectionFactor::Create(sensor.model, sensor.T_B_C, corners_map[c],
+                                                     obs.corners_px[c], options.pixel_sigma_px),
+                  loss.get(), blocks[k].q.data(), blocks[k].p.data());
+            } else {
+              if (!shared_blocks_added) {
+                problem.AddParameterBlock(q_W_M.data(), 4, &tilt_manifold);
+                if (!board) problem.SetParameterBlockConstant(q_W_M.data());
+                problem.AddParameterBlock(time_offset.data(), 1);
+                if (options.estimate_time_offset) {
+                  problem.SetParameterLowerBound(time_offset.data(), 0, -options.max_time_offset_s);
+                  problem.SetParameterUpperBound(time_offset.data(), 0, options.max_time_offset_s);
+                } else {
+                  problem.SetParameterBlockConstant(time_offset.data());
+                }
+                shared_blocks_added = true;
+              }
+              if (!camera_blocks_added) {
+                problem.AddParameterBlock(e.q.data(), 4, &quaternion_manifold);
+                problem.AddParameterBlock(e.p.data(), 3);
+                if (options.estimate_extrinsics) {
+                  Eigen::Matrix<double, 6, 6> L = Eigen::Matrix<double, 6, 6>::Zero();
+                  L.topLeftCorner<3, 3>().diagonal().setConstant(1.0 /
+                                                                 options.extrinsics_prior_rad);
+                  L.bottomRightCorner<3, 3>().diagonal().setConstant(1.0 /
+                                                                     options.extrinsics_prior_m);
+                  problem.AddResidualBlock(PosePriorFactor::Create(e.prior, L), nullptr, e.q.data(),
+                                           e.p.data());
+                } else {
+                  problem.SetParameterBlockConstant(e.q.data());
+                  problem.SetParameterBlockConstant(e.p.data());
+                }
+                camera_blocks_added = true;
+              }
+              id = problem.AddResidualBlock(
+                  CalibratedReprojectionFactor::Create(sensor.model, shifts[k], corners_map[c],
+                                                       obs.corners_px[c], options.pixel_sigma_px),
+                  loss.get(), blocks[k].q.data(), blocks[k].p.data(), blocks[k].v.data(),
+                  q_W_M.data(), e.q.data(), e.p.data(), time_offset.data());
+            }
+            corner_residuals.push_back(id);
+            ++num_visual;
+            ++num_anchored;
+          }
         }
       }
       if (use_laser) {
@@ -424,19 +554,65 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
         relinearize = true;
     }
     const bool last_round = !relinearize || round == options.relinearize_rounds;
-    if (last_round && options.compute_covariance) {
+
+    // Tag corners at this solution: pixel errors before the loss, and how many the loss
+    // down-weights (Huber and Cauchy change the weight beyond |whitened residual| = loss_scale).
+    {
+      SmootherCornerStatistics& cs = result.corner_statistics;
+      cs = SmootherCornerStatistics{};
+      double sum_sq_px = 0.0;
+      for (const ceres::ResidualBlockId id : corner_residuals) {
+        double r[2];
+        double cost = 0.0;
+        if (!problem.EvaluateResidualBlock(id, false, &cost, r, nullptr)) continue;
+        const double whitened = std::hypot(r[0], r[1]);
+        const double px = whitened * options.pixel_sigma_px;
+        sum_sq_px += px * px;
+        ++cs.corners;
+        if (options.loss != SmootherLoss::kNone && whitened > options.loss_scale) ++cs.downweighted;
+      }
+      if (cs.corners > 0) cs.rms_px = std::sqrt(sum_sq_px / cs.corners);
+    }
+
+    // The calibration blocks that are estimated (in the problem and not constant).
+    auto estimated = [&](double* block) {
+      return problem.HasParameterBlock(block) && !problem.IsParameterBlockConstant(block);
+    };
+    std::vector<int> estimated_cameras;
+    for (auto& [cam, e] : extrinsics)
+      if (estimated(e.q.data())) estimated_cameras.push_back(cam);
+    const bool time_offset_estimated = estimated(time_offset.data());
+    const bool tilt_estimated = estimated(q_W_M.data());
+    const bool calibration_asked =
+        options.calibration_covariance &&
+        (!estimated_cameras.empty() || time_offset_estimated || tilt_estimated);
+    if (last_round && (options.compute_covariance || calibration_asked)) {
       const auto t_cov = std::chrono::steady_clock::now();
       ceres::Covariance::Options covariance_options;
       covariance_options.num_threads = std::max(1, options.num_threads);
       ceres::Covariance covariance(covariance_options);
       std::vector<std::pair<const double*, const double*>> pairs;
-      for (auto& b : blocks) {
-        pairs.emplace_back(b.p.data(), b.p.data());
-        pairs.emplace_back(b.q.data(), b.q.data());
-        pairs.emplace_back(b.p.data(), b.q.data());
+      if (options.compute_covariance) {
+        for (auto& b : blocks) {
+          pairs.emplace_back(b.p.data(), b.p.data());
+          pairs.emplace_back(b.q.data(), b.q.data());
+          pairs.emplace_back(b.p.data(), b.q.data());
+        }
       }
-      result.pose_covariances.assign(n, std::nullopt);
-      if (covariance.Compute(pairs, &problem)) {
+      if (calibration_asked) {
+        for (const int cam : estimated_cameras) {
+          ExtrinsicBlocks& e = extrinsics[cam];
+          pairs.emplace_back(e.p.data(), e.p.data());
+          pairs.emplace_back(e.q.data(), e.q.data());
+          pairs.emplace_back(e.p.data(), e.q.data());
+        }
+        if (time_offset_estimated) pairs.emplace_back(time_offset.data(), time_offset.data());
+        if (tilt_estimated) pairs.emplace_back(q_W_M.data(), q_W_M.data());
+      }
+      if (options.compute_covariance) result.pose_covariances.assign(n, std::nullopt);
+      const bool computed = covariance.Compute(pairs, &problem);
+      if (!computed && calibration_asked) result.calibration.covariance_failed = true;
+      if (computed && options.compute_covariance) {
         for (int k = 0; k < n; ++k) {
           Eigen::Matrix<double, 3, 3, Eigen::RowMajor> pp, qq, pq;
           covariance.GetCovarianceBlockInTangentSpace(blocks[k].p.data(), blocks[k].p.data(),
@@ -445,16 +621,30 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
                                                       qq.data());
           covariance.GetCovarianceBlockInTangentSpace(blocks[k].p.data(), blocks[k].q.data(),
                                                       pq.data());
-          // Ceres' quaternion tangent delta is a left (world-frame) perturbation of half the angle:
-          // q (+) delta = [cos|delta|, sin|delta| delta/|delta|] q, so dtheta_B = 2 R^T delta.
-          const Eigen::Matrix3d M =
-              2.0 * FromBlocks(blocks[k]).q_W_B.toRotationMatrix().transpose();
-          Eigen::Matrix<double, 6, 6> C;
-          C.topLeftCorner<3, 3>() = pp;
-          C.topRightCorner<3, 3>() = pq * M.transpose();
-          C.bottomLeftCorner<3, 3>() = M * pq.transpose();
-          C.bottomRightCorner<3, 3>() = M * qq * M.transpose();
-          result.pose_covariances[k] = C;
+          result.pose_covariances[k] =
+              PoseCovarianceFromTangent(pp, qq, pq, FromBlocks(blocks[k]).q_W_B);
+        }
+      }
+      if (computed && calibration_asked) {
+        SmootherCalibration& cal = result.calibration;
+        for (const int cam : estimated_cameras) {
+          ExtrinsicBlocks& e = extrinsics[cam];
+          Eigen::Matrix<double, 3, 3, Eigen::RowMajor> pp, qq, pq;
+          covariance.GetCovarianceBlockInTangentSpace(e.p.data(), e.p.data(), pp.data());
+          covariance.GetCovarianceBlockInTangentSpace(e.q.data(), e.q.data(), qq.data());
+          covariance.GetCovarianceBlockInTangentSpace(e.p.data(), e.q.data(), pq.data());
+          cal.T_B_C_covariance[cam] =
+              PoseCovarianceFromTangent(pp, qq, pq, QuaternionFromBlock(e.q));
+        }
+        if (time_offset_estimated) {
+          double var = 0.0;
+          covariance.GetCovarianceBlock(time_offset.data(), time_offset.data(), &var);
+          cal.time_offset_sigma_s = std::sqrt(std::max(var, 0.0));
+        }
+        if (tilt_estimated) {
+          Eigen::Matrix<double, 2, 2, Eigen::RowMajor> tt;
+          covariance.GetCovarianceBlockInTangentSpace(q_W_M.data(), q_W_M.data(), tt.data());
+          cal.tilt_covariance = Eigen::Matrix2d(tt);
         }
       }
       st.covariance_s += Seconds(std::chrono::steady_clock::now() - t_cov);
@@ -464,6 +654,36 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
   }
 
   for (int k = 0; k < n; ++k) result.keyframes.push_back({times[k], FromBlocks(blocks[k])});
+  SmootherCalibration& cal = result.calibration;
+  for (const auto& [cam, e] : extrinsics)
+    cal.T_B_C[cam] = Pose(QuaternionFromBlock(e.q), Eigen::Vector3d(e.p.data()));
+  cal.time_offset_s = time_offset[0];
+  if (board) {
+    // Re-express the solution in the W of core/board_frame.h: the rotation about z_W that takes
+    // the estimated R_W_M to the canonical one (a rotation about gravity leaves the IMU factors
+    // unchanged). Positions, velocities, the position part of the pose covariances and the tilt
+    // tangent (about W's x and y) rotate with it; body-frame quantities do not.
+    const Eigen::Matrix3d R_W_M = QuaternionFromBlock(q_W_M).toRotationMatrix();
+    const Eigen::Matrix3d R_canonical = CanonicalBoardToWorldRotation(R_W_M);
+    const Eigen::Matrix3d R_z = R_canonical * R_W_M.transpose();
+    const Eigen::Quaterniond q_z(R_z);
+    for (SmootherKeyframe& kf : result.keyframes) {
+      kf.state.q_W_B = (q_z * kf.state.q_W_B).normalized();
+      kf.state.p_W = R_z * kf.state.p_W;
+      kf.state.v_W = R_z * kf.state.v_W;
+    }
+    for (auto& C : result.pose_covariances) {
+      if (!C) continue;
+      C->topLeftCorner<3, 3>() = R_z * C->topLeftCorner<3, 3>() * R_z.transpose();
+      C->topRightCorner<3, 3>() = R_z * C->topRightCorner<3, 3>();
+      C->bottomLeftCorner<3, 3>() = C->topRightCorner<3, 3>().transpose();
+    }
+    cal.q_W_M = Eigen::Quaterniond(R_canonical).normalized();
+    if (cal.tilt_covariance) {
+      const Eigen::Matrix2d R2 = R_z.topLeftCorner<2, 2>();
+      cal.tilt_covariance = R2 * *cal.tilt_covariance * R2.transpose();
+    }
+  }
   if (options.landmarks != LandmarkMode::kKnown) {
     for (const auto& [id, p] : landmarks)
       result.landmarks_W[id] = Eigen::Vector3d(p[0], p[1], p[2]);

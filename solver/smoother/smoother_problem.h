@@ -6,17 +6,27 @@
 //   bearings of unknown ground features (Troiani et al., ECMR 2013: the features are parameters);
 //   the laser spot on an unknown plane (Martinelli & Troiani, RR-7906: the plane is a parameter),
 // - optional robust loss (Huber or Cauchy) on the visual residuals,
+// - calibration blocks (issue 12), constant unless asked for: per camera the extrinsic T_B_C
+//   (quaternion manifold + translation, weak prior around the dataset's value), one camera-IMU
+//   time offset t_d shared by the cameras (bounded to +-max_time_offset_s), and on a board map
+//   (MapFrame::kBoard) the board's tilt to gravity q_W_M (solver/smoother/tilt_manifold.h: 2 DoF,
+//   the yaw of W is gauge); with any of them the tag corners go through
+//   CalibratedReprojectionFactor, else through MapPointReprojectionFactor as before,
 // solved by Levenberg-Marquardt with a sparse Cholesky factorisation (SuiteSparse), and marginal
-// covariances of the keyframe poses on request (ceres::Covariance).
+// covariances of the keyframe poses and of the calibration on request (ceres::Covariance).
+// On a board map the solution is re-expressed in the W of core/board_frame.h (a rotation of every
+// state about z_W, which leaves the IMU factors unchanged).
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "core/dataset.h"
+#include "core/pose.h"
 #include "solver/laser/laser_spot_model.h"
 #include "solver/smoother/imu_preintegration.h"
 
@@ -58,6 +68,24 @@ struct SmootherProblemOptions {
   std::optional<LaserBeam> laser_beam;
   bool estimate_plane = true;
 
+  // Tag corners: the cameras whose tag stream is used (0: tags0 with cameras[0], 1: tags1 with
+  // cameras[1]).
+  std::vector<int> cameras = {0};
+  // Calibration (see the header comment). Extrinsics start from initial_T_B_C (per camera index;
+  // the dataset's T_B_C where absent) with a prior of the given sigmas around the dataset's value.
+  bool estimate_extrinsics = false;
+  std::map<int, Pose> initial_T_B_C;
+  double extrinsics_prior_m = 0.1;
+  double extrinsics_prior_rad = 0.174533;  // 10 deg
+  bool estimate_time_offset = false;
+  double initial_time_offset_s = 0.0;
+  double max_time_offset_s = 0.03;
+  // Board map: the initial board-to-world rotation (the tilt is then estimated). Unset on world
+  // maps (the map is in W).
+  std::optional<Eigen::Quaterniond> initial_q_W_M;
+  // Marginal covariances of the estimated calibration blocks.
+  bool calibration_covariance = true;
+
   // Noise floors (continuous densities) used where the dataset's IMU noise is zero or smaller.
   ImuNoise noise_floor{1e-4, 1e-7, 1e-3, 1e-6};
   // Prior on the first keyframe's biases (zero mean).
@@ -90,6 +118,28 @@ struct SmootherStatistics {
   std::string ceres_full_report;
 };
 
+// The calibration at the solution (what was estimated, and what was held).
+struct SmootherCalibration {
+  std::map<int, Pose> T_B_C;  // per camera index used for tag corners
+  // Marginal covariance of [p_B_C (m); dtheta (rad, right perturbation R_B_C Exp(dtheta))].
+  std::map<int, Eigen::Matrix<double, 6, 6>> T_B_C_covariance;
+  double time_offset_s = 0.0;
+  std::optional<double> time_offset_sigma_s;
+  // Board map: R_W_M in the convention of core/board_frame.h, and the covariance of the tilt as a
+  // left perturbation Exp((d1, d2, 0)) R_W_M about W's x and y axes (rad^2).
+  std::optional<Eigen::Quaterniond> q_W_M;
+  std::optional<Eigen::Matrix2d> tilt_covariance;
+  bool covariance_failed = false;  // asked for and ceres::Covariance failed (rank deficiency)
+};
+
+// Tag corners at the solution: pixel errors (before the robust loss) and how many corners the loss
+// down-weights (whitened error beyond loss_scale).
+struct SmootherCornerStatistics {
+  int corners = 0;
+  double rms_px = 0.0;
+  int downweighted = 0;
+};
+
 struct SmootherResult {
   bool usable = false;
   std::string message;  // why the solution is not usable, or Ceres' termination message
@@ -100,12 +150,15 @@ struct SmootherResult {
   std::map<int, Eigen::Vector3d> landmarks_W;  // estimated (unknown-landmark modes)
   std::optional<Plane> plane;                  // estimated (laser with estimate_plane)
   std::map<std::string, int> dropped;          // measurements not used, by reason
+  SmootherCalibration calibration;
+  SmootherCornerStatistics corner_statistics;
   SmootherStatistics statistics;
 };
 
-// Solves the smoother from initial keyframe states (sorted by time, inside the IMU stream) and,
-// for unknown landmarks, their initial positions. Measurements are attached to the keyframe at
-// their time (within 1 ms); others are dropped and counted.
+// Solves the smoother from initial keyframe states (sorted by time, inside the IMU stream; in the
+// W of options.initial_q_W_M on a board map) and, for unknown landmarks, their initial positions.
+// Measurements are attached to the keyframe at their time (within 1 ms); others are dropped and
+// counted.
 SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherKeyframe>& initial,
                              const std::map<int, Eigen::Vector3d>& initial_landmarks_W,
                              const std::optional<Plane>& initial_plane,

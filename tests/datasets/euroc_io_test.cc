@@ -304,5 +304,104 @@ TEST(TumWriter, RoundTripKeepsNanoseconds) {
   EXPECT_TRUE(back[0].T_W_B.q.isApprox(poses[0].T_W_B.q, 1e-12));
 }
 
+// ---- issue 12: tags1 (cam1), map frame, atomic folder writes, the yac IMU CSV ----
+
+TEST(EurocWriter, Tags1AndBoardFrameRoundTrip) {
+  const std::string dir = testing::MakeTempDir();
+  Dataset in = SmallDataset();
+  TagObservation right = in.tags[0];
+  right.camera = 1;
+  right.tag_id = 5;
+  right.corners_px[2] = {50.25, 60.5};
+  in.tags1 = {right};
+  CameraSensor cam1 = in.cameras[0];
+  cam1.name = "cam1";
+  cam1.frames = {};
+  in.cameras.push_back(cam1);
+  in.map.frame = MapFrame::kBoard;
+  WriteEurocDataset(in, dir);
+  const Dataset out = ReadEurocDataset(dir);
+  ASSERT_EQ(out.tags.size(), 1u);
+  EXPECT_EQ(out.tags[0].camera, 0);
+  ASSERT_EQ(out.tags1.size(), 1u);
+  EXPECT_EQ(out.tags1[0].camera, 1);
+  EXPECT_EQ(out.tags1[0].tag_id, 5);
+  EXPECT_EQ(out.tags1[0].t_ns, 1000);
+  EXPECT_TRUE(out.tags1[0].corners_px[2].isApprox(Eigen::Vector2d(50.25, 60.5)));
+  EXPECT_EQ(out.map.frame, MapFrame::kBoard);
+  ASSERT_EQ(out.cameras.size(), 2u);
+  EXPECT_EQ(out.cameras[1].name, "cam1");
+  EXPECT_TRUE(out.cameras[1].frames.empty());
+  // A world map writes no frame key and reads back as world; so does a map.yaml without one.
+  in.map.frame = MapFrame::kWorld;
+  in.tags1.clear();
+  const std::string dir2 = dir + "_world";
+  fs::remove_all(dir2);
+  fs::create_directories(dir2);
+  WriteEurocDataset(in, dir2);
+  std::ifstream map(dir2 + "/map.yaml");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(map), {}).find("\nframe:"),
+            std::string::npos);
+  const Dataset world = ReadEurocDataset(dir2);
+  EXPECT_EQ(world.map.frame, MapFrame::kWorld);
+  EXPECT_TRUE(world.tags1.empty());
+  EXPECT_FALSE(fs::exists(dir2 + "/mav0/tags1"));
+  std::ofstream(dir2 + "/map.yaml") << "frame: world\n";
+  EXPECT_EQ(ReadEurocDataset(dir2).map.frame, MapFrame::kWorld);
+}
+
+TEST(EurocReaderBadInput, UnknownMapFrameAndBadTags1Row) {
+  const std::string dir = WriteImuCsv("1,0,0,0,0,0,9.81\n");
+  std::ofstream(dir + "/map.yaml") << "# map\nframe: ceiling\n";
+  std::string error = ErrorOf(dir);
+  EXPECT_NE(error.find("map.yaml:2: field 'frame': 'ceiling' is not a map frame"),
+            std::string::npos)
+      << error;
+  fs::remove(dir + "/map.yaml");
+  fs::create_directories(dir + "/mav0/tags1");
+  std::ofstream(dir + "/mav0/tags1/data.csv") << "#timestamp [ns],tag_id,u0,v0,u1,v1,u2,v2,u3,v3\n"
+                                                 "5,1,0,0,1,0,1,1,0,nan\n";
+  error = ErrorOf(dir);
+  EXPECT_NE(error.find("tags1/data.csv:2: field 'v3'"), std::string::npos) << error;
+}
+
+TEST(EurocWriter, AtomicFolderWrite) {
+  const std::string parent = testing::MakeTempDir();
+  const std::string root = parent + "/out";
+  WriteEurocDatasetAtomically(SmallDataset(), root, {{"import.yaml", "a: 1\n"}});
+  EXPECT_EQ(ReadEurocDataset(root).imu.samples.size(), 5u);
+  EXPECT_TRUE(fs::exists(root + "/import.yaml"));
+  // A non-empty folder is not overwritten unless asked.
+  try {
+    WriteEurocDatasetAtomically(SmallDataset(), root);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not empty"), std::string::npos) << e.what();
+  }
+  Dataset smaller = SmallDataset();
+  smaller.imu.samples.resize(3);
+  WriteEurocDatasetAtomically(smaller, root + "/", {}, /*replace=*/true);  // trailing slash
+  EXPECT_EQ(ReadEurocDataset(root).imu.samples.size(), 3u);
+  EXPECT_FALSE(fs::exists(root + "/import.yaml"));  // the old folder is gone, not merged
+  // A failure half-way (an extra file where a folder is) leaves nothing behind.
+  const std::string failed = parent + "/failed";
+  EXPECT_THROW(WriteEurocDatasetAtomically(SmallDataset(), failed, {{"mav0", "not a folder"}}),
+               InputError);
+  EXPECT_FALSE(fs::exists(failed));
+  for (const auto& entry : fs::directory_iterator(parent))
+    EXPECT_EQ(entry.path().filename(), "out") << entry.path();
+}
+
+TEST(ImuCsv, ReadsTheYacImuAprilLog) {
+  REQUIRE_SHARED_DATA();
+  const auto samples = ReadImuCsv(testing::SharedDataDir() + "/euroc_imu_april/imu0.csv");
+  ASSERT_EQ(samples.size(), 14374u);
+  EXPECT_EQ(samples.front().t_ns, 1404733405747800064);
+  EXPECT_EQ(samples.back().t_ns, 1404733477612800000);
+  EXPECT_DOUBLE_EQ(samples.front().gyro_rad_s.z(), 0.125664);
+  EXPECT_DOUBLE_EQ(samples.front().accel_m_s2.x(), 9.365351);
+  EXPECT_DOUBLE_EQ(samples.front().accel_m_s2.z(), -3.277056);
+}
+
 }  // namespace
 }  // namespace mavloc

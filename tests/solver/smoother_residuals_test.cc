@@ -12,13 +12,16 @@
 #include "core/random.h"
 #include "core/rotation.h"
 #include "solver/smoother/imu_preintegration.h"
+#include "solver/smoother/imu_time_shift.h"
 #include "solver/smoother/residuals/bias_random_walk_factor.h"
+#include "solver/smoother/residuals/calibrated_reprojection_factor.h"
 #include "solver/smoother/residuals/feature_bearing_factor.h"
 #include "solver/smoother/residuals/imu_factor.h"
 #include "solver/smoother/residuals/laser_spot_plane_factor.h"
 #include "solver/smoother/residuals/map_point_reprojection_factor.h"
 #include "solver/smoother/residuals/pose_prior_factor.h"
 #include "solver/smoother/residuals/vector_prior_factor.h"
+#include "solver/smoother/tilt_manifold.h"
 #include "tests/test_support.h"
 
 namespace mavloc {
@@ -287,6 +290,148 @@ TEST_F(ResidualTest, LaserSpotPlaneFactor) {
   Eigen::Vector2d r;
   const std::vector<double*> p = parallel.Pointers();
   EXPECT_FALSE(cost->Evaluate(p.data(), r.data(), nullptr));
+}
+
+// A rotating, accelerating IMU stream at 200 Hz over 1 s (smooth signals).
+std::vector<ImuSample> SmoothImuStream() {
+  std::vector<ImuSample> samples;
+  for (int k = 0; k <= 200; ++k) {
+    const double t = 0.005 * k;
+    ImuSample s;
+    s.t_ns = SecondsToNs(t);
+    s.gyro_rad_s = Eigen::Vector3d(0.8 * std::sin(3 * t), -0.5 + 0.3 * t, 1.2 * std::cos(2 * t));
+    s.accel_m_s2 = Eigen::Vector3d(2.0 * std::cos(4 * t), 0.7, 9.6 + 1.5 * std::sin(5 * t));
+    samples.push_back(s);
+  }
+  return samples;
+}
+
+TEST_F(ResidualTest, TiltManifoldMovesOnlyTheGravityDirection) {
+  const TiltManifold manifold;
+  const Eigen::Quaterniond q = RandomRotation(rng_);
+  const double x[4] = {q.x(), q.y(), q.z(), q.w()};
+  const double delta[2] = {0.03, -0.02};
+  double y[4], back[2];
+  ASSERT_TRUE(manifold.Plus(x, delta, y));
+  ASSERT_TRUE(manifold.Minus(y, x, back));
+  EXPECT_NEAR(back[0], delta[0], 1e-12);
+  EXPECT_NEAR(back[1], delta[1], 1e-12);
+  // y = Exp((d1, d2, 0)) x: the rotation between them has no component about z_W.
+  const Eigen::Quaterniond qy(y[3], y[0], y[1], y[2]);
+  EXPECT_NEAR(LogQuaternion(qy * q.conjugate()).z(), 0.0, 1e-12);
+  // PlusJacobian against central differences of Plus; MinusJacobian is its left inverse.
+  Eigen::Matrix<double, 4, 2, Eigen::RowMajor> J_plus;
+  Eigen::Matrix<double, 2, 4, Eigen::RowMajor> J_minus;
+  ASSERT_TRUE(manifold.PlusJacobian(x, J_plus.data()));
+  ASSERT_TRUE(manifold.MinusJacobian(x, J_minus.data()));
+  auto plus = [&](const Eigen::VectorXd& d) -> Eigen::VectorXd {
+    double out[4];
+    manifold.Plus(x, d.data(), out);
+    return Eigen::Vector4d(out[0], out[1], out[2], out[3]);
+  };
+  const Eigen::MatrixXd numeric =
+      testing::CentralDifferenceJacobian(plus, Eigen::VectorXd::Zero(2), 1e-6);
+  EXPECT_LT((numeric - Eigen::MatrixXd(J_plus)).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((J_minus * J_plus - Eigen::Matrix2d::Identity()).cwiseAbs().maxCoeff(), 1e-12);
+  // MinusJacobian against central differences of Minus(x [+] d, x) in the ambient space.
+  auto minus = [&](const Eigen::VectorXd& y_ambient) -> Eigen::VectorXd {
+    Eigen::Vector4d unit = y_ambient.normalized();
+    double out[2];
+    manifold.Minus(unit.data(), x, out);
+    return Eigen::Vector2d(out[0], out[1]);
+  };
+  const Eigen::MatrixXd numeric_minus =
+      testing::CentralDifferenceJacobian(minus, Eigen::Vector4d(x[0], x[1], x[2], x[3]), 1e-6);
+  // Along the tangent directions (what Ceres uses) the two agree.
+  EXPECT_LT(((numeric_minus - Eigen::MatrixXd(J_minus)) * J_plus).cwiseAbs().maxCoeff(), 1e-8);
+}
+
+TEST_F(ResidualTest, ImuTimeShiftPolynomialMatchesTheIntegratedMotion) {
+  const std::vector<ImuSample> samples = SmoothImuStream();
+  ImuBiases biases;
+  biases.b_g = Eigen::Vector3d(0.01, -0.02, 0.005);
+  biases.b_a = Eigen::Vector3d(0.05, 0.0, -0.1);
+  const TimeNs t_k = SecondsToNs(0.4321);
+  double fit_error = 1.0;
+  const ImuTimeShift shift = FitImuTimeShift(samples, t_k, biases, 0.03, &fit_error);
+  EXPECT_LT(fit_error, 1e-10);
+  for (const double tau : {-0.029, -0.0123, -0.001, 0.0, 0.0005, 0.0077, 0.025}) {
+    Eigen::Quaterniond dq;
+    Eigen::Vector3d dp;
+    IntegrateImuTimeShift(samples, t_k, biases, tau, &dq, &dp);
+    Eigen::Vector3d phi, dp_fit;
+    shift.Evaluate(tau, phi.data(), dp_fit.data());
+    EXPECT_LT(LogQuaternion(ExpQuaternion(phi).conjugate() * dq).norm(), 1e-10) << tau;
+    EXPECT_LT((dp_fit - dp).norm(), 1e-10) << tau;
+  }
+  // The integrated motion itself: to first order R Exp((w - b_g) tau), 1/2 (a - b_a) tau^2.
+  Eigen::Quaterniond dq;
+  Eigen::Vector3d dp;
+  const double tau = -0.004;
+  IntegrateImuTimeShift(samples, t_k, biases, tau, &dq, &dp);
+  const ImuIntegrator integrator(&samples);
+  Eigen::Vector3d w, f;
+  integrator.SignalAt(t_k, 0.0, biases, &w, &f);
+  EXPECT_LT((LogQuaternion(dq) - w * tau).norm(), 5e-5);
+  EXPECT_LT((dp - 0.5 * f * tau * tau).norm(), 1e-6);
+}
+
+TEST_F(ResidualTest, CalibratedReprojectionFactorWithTimeOffsetTiltAndExtrinsic) {
+  const CameraModel camera(752, 480, Eigen::Vector4d(458.7, 457.3, 367.2, 248.4),
+                           DistortionModel::kRadialTangential, {-0.28, 0.07, 2e-4, 1.8e-5});
+  const std::vector<ImuSample> samples = SmoothImuStream();
+  const TimeNs t_k = SecondsToNs(0.5);
+  const double t_d = 0.0042;
+  const auto shift =
+      std::make_shared<const ImuTimeShift>(FitImuTimeShift(samples, t_k, ImuBiases{}, 0.03));
+  // Keyframe state at t_k, the board tilted, the camera looking at the point.
+  const Pose T_W_B(ExpQuaternion(Eigen::Vector3d(0.1, -0.05, 0.7)), Eigen::Vector3d(0.3, 0.2, 1.5));
+  const Eigen::Vector3d v_W(0.4, -0.3, 0.2);
+  const Eigen::Quaterniond q_W_M = ExpQuaternion(Eigen::Vector3d(1.4, 0.2, 0.3));
+  const Pose T_B_C = TestExtrinsic();
+  // The pose at t_k + t_d by direct integration; a point 1 m in front of that camera.
+  Eigen::Quaterniond dq;
+  Eigen::Vector3d dp;
+  IntegrateImuTimeShift(samples, t_k, ImuBiases{}, t_d, &dq, &dp);
+  const Pose T_W_Bt(T_W_B.q * dq,
+                    T_W_B.p + v_W * t_d + 0.5 * GravityW() * t_d * t_d + T_W_B.q * dp);
+  const Pose T_W_Ct = T_W_Bt * T_B_C;
+  const Eigen::Vector3d p_W = T_W_Ct * Eigen::Vector3d(0.1, -0.05, 1.0);
+  const Eigen::Vector3d p_M = q_W_M.conjugate() * p_W;
+  const Eigen::Vector2d uv = *camera.Project(T_W_Ct.Inverse() * p_W);
+  std::unique_ptr<ceres::CostFunction> cost(
+      CalibratedReprojectionFactor::Create(camera, shift, p_M, uv, 0.5));
+  const TiltManifold tilt;
+  Blocks blocks;
+  blocks.AddQuaternion(T_W_B.q, &quaternion_manifold_);
+  blocks.AddVector(T_W_B.p);
+  blocks.AddVector(v_W);
+  blocks.AddQuaternion(q_W_M, &tilt);
+  blocks.AddQuaternion(T_B_C.q, &quaternion_manifold_);
+  blocks.AddVector(T_B_C.p);
+  blocks.AddVector(Eigen::VectorXd::Constant(1, t_d));
+  EXPECT_LT(Evaluate(*cost, blocks).norm(), 1e-7);
+  // A millisecond of time offset moves the corner by about (image speed) x 1 ms.
+  Blocks shifted = blocks;
+  shifted.values[6][0] += 0.001;
+  EXPECT_GT(Evaluate(*cost, shifted).norm(), 0.05);
+  ExpectJacobiansCorrect(*cost, blocks);
+
+  // With t_d = 0, the identity tilt and no velocity it is MapPointReprojectionFactor.
+  std::unique_ptr<ceres::CostFunction> fixed(
+      MapPointReprojectionFactor::Create(camera, T_B_C, p_W, uv, 0.5));
+  std::unique_ptr<ceres::CostFunction> general(
+      CalibratedReprojectionFactor::Create(camera, shift, p_W, uv, 0.5));
+  Blocks a, b;
+  a.AddQuaternion(T_W_B.q, &quaternion_manifold_);
+  a.AddVector(T_W_B.p);
+  b = a;
+  b.AddVector(v_W);
+  b.AddQuaternion(Eigen::Quaterniond::Identity(), &tilt);
+  b.AddQuaternion(T_B_C.q, &quaternion_manifold_);
+  b.AddVector(T_B_C.p);
+  b.AddVector(Eigen::VectorXd::Zero(1));
+  EXPECT_LT((Evaluate(*fixed, a) - Evaluate(*general, b)).norm(), 1e-12);
 }
 
 }  // namespace

@@ -1,0 +1,436 @@
+#include "evaluation/repro/euroc_imu_april_repro.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/errors.h"
+#include "core/key_values.h"
+#include "core/progress.h"
+#include "core/rotation.h"
+#include "datasets/io/aprilgrid_log_import.h"
+#include "datasets/io/calibration_io.h"
+#include "evaluation/association.h"
+#include "evaluation/comparison.h"
+#include "evaluation/reference.h"
+#include "evaluation/report_writer.h"
+#include "solver/estimator.h"
+
+namespace mavloc {
+namespace {
+
+constexpr const char* kStage = "repro euroc-imu-april";
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// chi-square with 3 degrees of freedom at 99.73 % (the probability of 3 sigma in one dimension).
+constexpr double kChi2ThreeDof3Sigma = 14.16;
+
+std::string Setting(const ReproOptions& options, const std::string& key,
+                    const std::string& fallback) {
+  return GetStringSetting(options.settings, key, fallback);
+}
+
+std::vector<std::string> SplitCommaList(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ','))
+    if (!item.empty()) items.push_back(item);
+  return items;
+}
+
+// The nearest signed permutation matrix: a camera mounting known only "by the drawing".
+Eigen::Matrix3d RoundToAxes(const Eigen::Matrix3d& R) {
+  Eigen::Matrix3d out = Eigen::Matrix3d::Zero();
+  std::array<bool, 3> used_row{false, false, false};
+  for (int c = 0; c < 3; ++c) {
+    int best = -1;
+    for (int r = 0; r < 3; ++r)
+      if (!used_row[r] && (best < 0 || std::abs(R(r, c)) > std::abs(R(best, c)))) best = r;
+    used_row[best] = true;
+    out(best, c) = R(best, c) > 0 ? 1.0 : -1.0;
+  }
+  return out;
+}
+
+Dataset FirstSeconds(const Dataset& full, double duration_s) {
+  if (!(duration_s > 0.0) || full.imu.samples.empty()) return full;
+  Dataset d = full;
+  const TimeNs end = full.imu.samples.front().t_ns + SecondsToNs(duration_s);
+  auto trim = [end](auto& items) {
+    items.erase(std::remove_if(items.begin(), items.end(),
+                               [end](const auto& item) { return item.t_ns > end; }),
+                items.end());
+  };
+  trim(d.imu.samples);
+  for (auto& camera : d.cameras) trim(camera.frames);
+  trim(d.tags);
+  trim(d.tags1);
+  return d;
+}
+
+struct SmootherRun {
+  std::string label;    // "cam0", "cam1", "cam0+cam1"
+  std::string cameras;  // option value
+  Estimate estimate;
+  double runtime_s = 0.0;
+  bool ran = false;
+  std::string why;
+};
+
+// Error of an estimated extrinsic against a reference one: translation p_ref - p_est [m],
+// rotation dtheta = Log(R_est^T R_ref) [rad] (the right perturbation of the covariance).
+struct ExtrinsicError {
+  Eigen::Vector3d dp = Eigen::Vector3d::Zero();
+  Eigen::Vector3d dtheta = Eigen::Vector3d::Zero();
+  std::optional<Eigen::Vector3d> sigma_p, sigma_theta;
+  double mahalanobis_p = kNaN, mahalanobis_theta = kNaN;
+};
+
+ExtrinsicError CompareExtrinsic(const EstimatedExtrinsic& est, const Pose& reference) {
+  ExtrinsicError e;
+  e.dp = reference.p - est.T_B_C.p;
+  e.dtheta = LogSO3(est.T_B_C.R().transpose() * reference.R());
+  if (est.covariance) {
+    const Eigen::Matrix3d P = est.covariance->topLeftCorner<3, 3>();
+    const Eigen::Matrix3d T = est.covariance->bottomRightCorner<3, 3>();
+    e.sigma_p = P.diagonal().cwiseSqrt();
+    e.sigma_theta = T.diagonal().cwiseSqrt();
+    e.mahalanobis_p = e.dp.dot(P.ldlt().solve(e.dp));
+    e.mahalanobis_theta = e.dtheta.dot(T.ldlt().solve(e.dtheta));
+  }
+  return e;
+}
+
+std::string Vec(const Eigen::Vector3d& v, double scale, int digits) {
+  return fmt::format("({}, {}, {})", FormatNumber(v[0] * scale, digits),
+                     FormatNumber(v[1] * scale, digits), FormatNumber(v[2] * scale, digits));
+}
+
+double Param(const Estimate& e, const std::string& name, bool sigma = false) {
+  const auto it = e.parameters.find(name);
+  if (it == e.parameters.end()) return kNaN;
+  if (sigma) return it->second.sigma.value_or(kNaN);
+  return it->second.value;
+}
+
+}  // namespace
+
+int RunEurocImuAprilRepro(const ReproOptions& options) {
+  for (const auto& [key, value] : options.settings) {
+    if (key != "data" && key != "official" && key != "initial" && key != "duration_s" &&
+        key != "estimators" && key.rfind("smoother.", 0) != 0)
+      throw InputError("repro euroc-imu-april: unknown setting '" + key +
+                       "' (data, official, initial, duration_s, estimators, smoother.KEY)");
+  }
+  const std::string data = Setting(options, "data", "../shared/data/euroc_imu_april");
+  const std::string official_root =
+      Setting(options, "official", "../shared/data/euroc_v1_01_easy/mav0");
+  const std::string initial = Setting(options, "initial", "coarse");
+  if (initial != "coarse" && initial != "official")
+    throw InputError("repro euroc-imu-april: initial must be coarse or official, not '" + initial +
+                     "'");
+  const double duration_s = GetDoubleSetting(options.settings, "duration_s", 0.0);
+  const auto estimators = SplitCommaList(Setting(
+      options, "estimators", "tag-pnp,tag-ekf,tag-ekf:gate_chi2=0,pnp,upright-2p,pixhawk-kf"));
+  // "name" or "name:key=value" (a variant with one option).
+  auto split_variant = [](const std::string& item) {
+    const auto colon = item.find(':');
+    EstimatorOptions variant_options;
+    if (colon != std::string::npos) {
+      const std::string kv = item.substr(colon + 1);
+      const auto eq = kv.find('=');
+      if (eq == std::string::npos)
+        throw InputError("repro euroc-imu-april: estimator variant '" + item +
+                         "' must read name:key=value");
+      variant_options.Set(kv.substr(0, eq), kv.substr(eq + 1));
+    }
+    return std::make_pair(item.substr(0, colon), variant_options);
+  };
+  for (const auto& item : estimators)
+    if (!FindEstimator(split_variant(item).first))
+      throw InputError("unknown estimator '" + split_variant(item).first + "'");
+
+  // 1. The log as a dataset, with EuRoC's official T_B_C of both cameras.
+  ReportProgress(kStage, "importing " + data);
+  AprilgridLogInputs inputs;
+  inputs.imu_csv = data + "/imu0.csv";
+  inputs.corners = {"cam0=" + data + "/cam0", "cam1=" + data + "/cam1"};
+  inputs.configs = {data + "/config.yaml"};
+  inputs.extrinsics = {"cam0=" + official_root + "/cam0/sensor.yaml",
+                       "cam1=" + official_root + "/cam1/sensor.yaml"};
+  AprilgridLogImport imported = ImportAprilgridLog(inputs);
+  const Dataset official = FirstSeconds(imported.dataset, duration_s);
+  if (official.cameras.size() < 2)
+    throw InputError(data, 0, "", "the log must hold corners of cam0 and cam1");
+  const Pose T_B_C0_official = official.cameras[0].T_B_C;
+  const Pose T_B_C1_official = official.cameras[1].T_B_C;
+  const CalibrationSource config = ReadCalibrationSource(data + "/config.yaml");
+  std::optional<Pose> T_C0_C1_config;
+  if (const auto it = config.cameras.find(1); it != config.cameras.end())
+    T_C0_C1_config = it->second.T_C0_C;
+
+  // 2. The smoother's starting point: coarse (axis-rounded rotation, zero translation) or the
+  //    official values.
+  Dataset start = official;
+  if (initial == "coarse")
+    for (auto& camera : start.cameras)
+      camera.T_B_C = Pose(Eigen::Matrix3d(RoundToAxes(camera.T_B_C.R())), Eigen::Vector3d::Zero());
+
+  std::map<std::string, std::string> smoother_options = {{"estimate_extrinsics", "1"},
+                                                         {"estimate_time_offset", "1"}};
+  for (const auto& [key, value] : options.settings)
+    if (key.rfind("smoother.", 0) == 0) smoother_options[key.substr(9)] = value;
+
+  std::vector<SmootherRun> runs = {{"cam0", "cam0", {}, 0, false, ""},
+                                   {"cam1", "cam1", {}, 0, false, ""},
+                                   {"cam0+cam1", "cam0,cam1", {}, 0, false, ""}};
+  for (auto& run : runs) {
+    ReportProgress(kStage, "smoother with " + run.label);
+    EstimatorOptions estimator_options(smoother_options);
+    estimator_options.Set("cameras", run.cameras);
+    auto smoother = FindEstimator("smoother")->create(estimator_options);
+    const Applicability applies = smoother->AppliesTo(start);
+    if (!applies.applies) {
+      run.why = applies.reason;
+      continue;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    run.estimate = smoother->Run(start);
+    run.runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    run.ran = !run.estimate.poses.empty();
+    if (!run.ran) run.why = "no solution";
+  }
+
+  ReportFiles files;
+  nlohmann::json& tables = files.json["tables"];
+  files.json["paper"] = "issue 12: EuRoC imu_april, real aprilgrid corners + IMU, no ground truth";
+  files.json["settings"] = {{"data", data},
+                            {"official", official_root},
+                            {"initial", initial},
+                            {"duration_s", duration_s}};
+  std::ostringstream md;
+  md << "# EuRoC imu_april: the smoother and the papers' estimators on a real calibration log\n\n"
+     << fmt::format(
+            "Log: `{}` ({} IMU samples, {} cam0 frames with {} tag observations, {} cam1 frames "
+            "with {} tag observations, {:.1f} s). There is no ground truth: what is known is "
+            "EuRoC's official camera-IMU calibration (`{}`, computed by Kalibr from these "
+            "sequences), the stereo calibration T_cam0_cam1 of `config.yaml`, and that the board "
+            "is static. The smoother starts from the {} T_B_C.\n\n",
+            data, official.imu.samples.size(), official.cameras[0].frames.size(),
+            official.tags.size(), official.cameras[1].frames.size(), official.tags1.size(),
+            NsToSeconds(official.imu.samples.back().t_ns - official.imu.samples.front().t_ns),
+            official_root,
+            initial == "coarse" ? "coarse (official rotation rounded to the axes, zero translation)"
+                                : "official");
+  for (const auto& note : imported.notes) md << "- " << note << "\n";
+  md << "\n";
+
+  // 3. Extrinsics against the official calibration.
+  {
+    std::vector<std::vector<std::string>> rows;
+    nlohmann::json table = nlohmann::json::array();
+    for (const auto& run : runs) {
+      if (!run.ran) {
+        rows.push_back({run.label, "-", "no solution: " + run.why});
+        continue;
+      }
+      for (const auto& [camera, extrinsic] : run.estimate.extrinsics) {
+        const Pose& reference = camera == "cam1" ? T_B_C1_official : T_B_C0_official;
+        const ExtrinsicError e = CompareExtrinsic(extrinsic, reference);
+        const double dp_mm = e.dp.norm() * 1e3;
+        const double dtheta_deg = e.dtheta.norm() / kDeg;
+        rows.push_back({run.label, camera, Vec(extrinsic.T_B_C.p, 1e3, 1), Vec(e.dp, 1e3, 2),
+                        FormatNumber(dp_mm, 2), e.sigma_p ? Vec(*e.sigma_p * 3.0, 1e3, 2) : "-",
+                        Vec(e.dtheta, 1.0 / kDeg, 3), FormatNumber(dtheta_deg, 3),
+                        e.sigma_theta ? Vec(*e.sigma_theta * 3.0, 1.0 / kDeg, 3) : "-",
+                        FormatNumber(e.mahalanobis_p, 1), FormatNumber(e.mahalanobis_theta, 1),
+                        (dp_mm < 10.0 && dtheta_deg < 0.5) ? "yes" : "no"});
+        table.push_back(
+            {{"run", run.label},
+             {"camera", camera},
+             {"translation_error_mm", dp_mm},
+             {"translation_error_xyz_mm", {e.dp[0] * 1e3, e.dp[1] * 1e3, e.dp[2] * 1e3}},
+             {"rotation_error_deg", dtheta_deg},
+             {"three_sigma_p_mm", e.sigma_p
+                                      ? nlohmann::json{3e3 * (*e.sigma_p)[0], 3e3 * (*e.sigma_p)[1],
+                                                       3e3 * (*e.sigma_p)[2]}
+                                      : nlohmann::json()},
+             {"three_sigma_rotation_deg",
+              e.sigma_theta
+                  ? nlohmann::json{3 * (*e.sigma_theta)[0] / kDeg, 3 * (*e.sigma_theta)[1] / kDeg,
+                                   3 * (*e.sigma_theta)[2] / kDeg}
+                  : nlohmann::json()},
+             {"mahalanobis_p", e.mahalanobis_p},
+             {"mahalanobis_rotation", e.mahalanobis_theta},
+             {"within_1cm_0.5deg", dp_mm < 10.0 && dtheta_deg < 0.5},
+             {"paper", {{"translation_mm", 10.0}, {"rotation_deg", 0.5}}}});
+      }
+    }
+    tables["extrinsics_vs_official"] = table;
+    md << "## T_B_C against EuRoC's official calibration\n\n"
+       << "Error = official - estimate (translation; rotation as Log(R_est^T R_official)); the "
+          "issue asks for 1 cm and 0.5 deg. 3 sigma from the smoother's marginal covariance; "
+          "Mahalanobis d^2 of the error (3 dof; 14.2 = 3 sigma) treats the official value as "
+          "exact, which it is not (it is Kalibr's estimate from the same data).\n\n"
+       << MarkdownTable({"run", "camera", "p_B_C [mm]", "dp [mm]", "|dp| [mm]", "3 sigma p [mm]",
+                         "dtheta [deg]", "|dtheta| [deg]", "3 sigma theta [deg]", "d^2 p",
+                         "d^2 theta", "within 1 cm, 0.5 deg"},
+                        rows)
+       << "\n";
+  }
+
+  // 4. Stereo: the relative pose of the two estimates against T_cam0_cam1 of config.yaml.
+  {
+    std::vector<std::vector<std::string>> rows;
+    nlohmann::json table = nlohmann::json::array();
+    auto add = [&](const std::string& label, const Pose& T_B_C0, const Pose& T_B_C1) {
+      if (!T_C0_C1_config) return;
+      const Pose T_C0_C1 = T_B_C0.Inverse() * T_B_C1;
+      const double dp_mm = (T_C0_C1.p - T_C0_C1_config->p).norm() * 1e3;
+      const double dtheta_deg = RotationAngleBetween(T_C0_C1.q, T_C0_C1_config->q) / kDeg;
+      rows.push_back(
+          {label, Vec(T_C0_C1.p, 1e3, 2), FormatNumber(dp_mm, 2), FormatNumber(dtheta_deg, 3)});
+      table.push_back(
+          {{"from", label}, {"translation_diff_mm", dp_mm}, {"rotation_diff_deg", dtheta_deg}});
+    };
+    add("EuRoC official T_BS (cam0, cam1)", T_B_C0_official, T_B_C1_official);
+    const SmootherRun& both = runs[2];
+    if (both.ran && both.estimate.extrinsics.count("cam0") &&
+        both.estimate.extrinsics.count("cam1"))
+      add("smoother cam0+cam1", both.estimate.extrinsics.at("cam0").T_B_C,
+          both.estimate.extrinsics.at("cam1").T_B_C);
+    if (runs[0].ran && runs[1].ran && runs[0].estimate.extrinsics.count("cam0") &&
+        runs[1].estimate.extrinsics.count("cam1"))
+      add("smoother cam0 run, cam1 run", runs[0].estimate.extrinsics.at("cam0").T_B_C,
+          runs[1].estimate.extrinsics.at("cam1").T_B_C);
+    tables["stereo_vs_config"] = table;
+    md << "## The two cameras' relative pose against T_cam0_cam1 of config.yaml\n\n"
+       << (T_C0_C1_config
+               ? MarkdownTable({"from", "p_C0_C1 [mm]", "|dp| [mm]", "dtheta [deg]"}, rows)
+               : std::string("config.yaml has no T_cam0_cam1.\n"))
+       << "\n";
+  }
+
+  // 5. Time offset, reprojection, robust loss, board tilt, run time.
+  {
+    std::vector<std::vector<std::string>> rows;
+    nlohmann::json table = nlohmann::json::object();
+    for (const auto& run : runs) {
+      if (!run.ran) continue;
+      const Estimate& e = run.estimate;
+      rows.push_back({run.label, FormatNumber(Param(e, "time_offset") * 1e3, 3),
+                      FormatNumber(Param(e, "time_offset", true) * 1e3, 3),
+                      FormatNumber(Param(e, "reprojection_rms"), 3),
+                      FormatNumber(Param(e, "downweighted_corners"), 0),
+                      FormatNumber(Param(e, "board_roll") / kDeg, 3),
+                      FormatNumber(Param(e, "board_pitch") / kDeg, 3),
+                      FormatNumber(run.runtime_s, 1)});
+      table[run.label] = {{"time_offset_ms", Param(e, "time_offset") * 1e3},
+                          {"time_offset_sigma_ms", Param(e, "time_offset", true) * 1e3},
+                          {"reprojection_rms_px", Param(e, "reprojection_rms")},
+                          {"downweighted_corners", Param(e, "downweighted_corners")},
+                          {"board_roll_deg", Param(e, "board_roll") / kDeg},
+                          {"board_pitch_deg", Param(e, "board_pitch") / kDeg},
+                          {"runtime_s", run.runtime_s}};
+    }
+    tables["smoother_solutions"] = table;
+    md << "## Time offset, reprojection and gravity of the smoother's solutions\n\n"
+       << "t_d: exposure = image stamp + t_d (EuRoC's VI-sensor is hardware-synchronised, so 0 "
+          "is expected). Reprojection RMS over every corner of the solution; corners the robust "
+          "loss down-weights (whitened error beyond its scale).\n\n"
+       << MarkdownTable(
+              {"run", "t_d [ms]", "sigma t_d [ms]", "reprojection rms [px]",
+               "down-weighted corners", "board roll [deg]", "board pitch [deg]", "runtime [s]"},
+              rows)
+       << "\n";
+  }
+
+  // 6. cam0-only against cam1-only trajectories.
+  if (runs[0].ran && runs[1].ran) {
+    const auto pairs = AssociatePoses(runs[0].estimate.poses, runs[1].estimate.poses, 0.005);
+    const auto ate = ComputeAte(pairs, AlignmentMode::kNone);
+    if (ate) {
+      tables["cam0_vs_cam1_trajectories"] = {{"pairs", pairs.size()},
+                                             {"position_rms_mm", ate->translation_m.rmse * 1e3},
+                                             {"position_max_mm", ate->translation_m.max * 1e3},
+                                             {"rotation_rms_deg", ate->rotation_rad.rmse / kDeg}};
+      md << fmt::format(
+          "## cam0-only against cam1-only\n\nThe body trajectories of the two independent "
+          "solutions (each in the W of its own gravity estimate) over {} common keyframes: "
+          "position RMS {} mm (max {} mm), rotation RMS {} deg.\n\n",
+          pairs.size(), FormatNumber(ate->translation_m.rmse * 1e3, 2),
+          FormatNumber(ate->translation_m.max * 1e3, 2),
+          FormatNumber(ate->rotation_rad.rmse / kDeg, 3));
+    }
+  }
+
+  // 7. The papers' estimators against the smoother (cam0, and both cameras) as the reference.
+  {
+    std::vector<std::pair<std::string, Estimate>> results;
+    for (const auto& name : estimators) {
+      ReportProgress(kStage, name);
+      const auto [estimator_name, variant_options] = split_variant(name);
+      EstimatorEvaluation e = RunAndEvaluate(estimator_name, variant_options, official, {});
+      if (!e.ran) {
+        results.push_back({name + " (skipped: " + e.skipped_reason + ")", Estimate{}});
+        continue;
+      }
+      results.push_back({name, std::move(e.estimate)});
+    }
+    nlohmann::json table = nlohmann::json::object();
+    std::vector<std::vector<std::string>> rows;
+    for (int r : {0, 2}) {
+      if (!runs[r].ran) continue;
+      const ComparisonReference reference =
+          ReferenceFromEstimate("smoother " + runs[r].label, runs[r].estimate);
+      EvaluationOptions evaluation_options;
+      evaluation_options.reference = &reference;
+      for (const auto& [name, estimate] : results) {
+        if (estimate.poses.empty() && estimate.quantities.empty()) {
+          rows.push_back({"smoother " + runs[r].label, name, "-", "-", "-", "-", "-", "-"});
+          continue;
+        }
+        const auto e =
+            EvaluateEstimate(split_variant(name).first, estimate, official, evaluation_options);
+        auto mean_abs = [&](const std::string& q) {
+          for (const auto& s : e.quantity_errors)
+            if (s.name == q) return s.mean_abs;
+          return kNaN;
+        };
+        const double reprojection = e.reprojection.empty() ? kNaN : e.reprojection[0].rms_px;
+        rows.push_back({"smoother " + runs[r].label, name,
+                        e.ate ? FormatNumber(e.ate->translation_m.rmse * 1e3, 1) : "-",
+                        e.ate ? FormatNumber(e.ate->rotation_rad.rmse / kDeg, 3) : "-",
+                        FormatNumber(mean_abs("roll") / kDeg, 3),
+                        FormatNumber(mean_abs("pitch") / kDeg, 3), FormatNumber(reprojection, 2),
+                        std::to_string(estimate.FailureCount())});
+        table["smoother " + runs[r].label][name] = EvaluationToJson(e);
+      }
+    }
+    tables["papers_vs_smoother"] = table;
+    md << "## The papers' estimators against the smoother\n\n"
+       << "The reference is the smoother's solution: an estimate, not a truth. The papers' "
+          "estimators use cam0 with EuRoC's official T_B_C and initialise the board's gravity "
+          "direction from the first frames. Differences: ATE RMS (no alignment), rotation RMS, "
+          "mean absolute roll/pitch difference; reprojection RMS of cam0's corners through each "
+          "estimator's own poses and board tilt.\n\n"
+       << MarkdownTable({"reference", "estimator", "position RMS [mm]", "rotation RMS [deg]",
+                         "roll [deg]", "pitch [deg]", "reprojection rms [px]", "no solution"},
+                        rows)
+       << "\n";
+  }
+
+  files.markdown = md.str();
+  WriteReportFolder(options.report_dir, files);
+  std::printf("%s", files.markdown.c_str());
+  return 0;
+}
+
+}  // namespace mavloc
