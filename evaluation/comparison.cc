@@ -148,9 +148,10 @@ nlohmann::json EvaluationToJson(const EstimatorEvaluation& evaluation) {
   if (!evaluation.reprojection.empty()) {
     nlohmann::json reprojection = nlohmann::json::object();
     for (const auto& r : evaluation.reprojection)
-      reprojection[r.camera] = {{"rms_px", r.rms_px},     {"median_px", r.median_px},
-                                {"max_px", r.max_px},     {"corners", r.corners},
-                                {"over_3px", r.over_3px}, {"unmatched", r.unmatched}};
+      reprojection[r.camera] = {{"rms_px", r.rms_px},      {"median_px", r.median_px},
+                                {"max_px", r.max_px},      {"corners", r.corners},
+                                {"over_3px", r.over_3px},  {"unmatched", r.unmatched},
+                                {"off_image", r.off_image}};
     j["reprojection"] = reprojection;
   }
   if (!evaluation.estimate.parameters.empty()) {

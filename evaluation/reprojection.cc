@@ -50,6 +50,13 @@ ReprojectionStatistics Reproject(const Dataset& dataset, const Estimate& estimat
         ++stats.unmatched;
         continue;
       }
+      // Beyond half an image outside the frame the distortion polynomial is outside its valid
+      // field and its pixel value is meaningless (radial-tangential diverges): a gross failure,
+      // counted, not averaged.
+      if (!camera.model.IsInside(*uv, -0.5 * camera.model.width())) {
+        ++stats.off_image;
+        continue;
+      }
       errors.push_back((*uv - obs.corners_px[k]).norm());
     }
   }
@@ -78,7 +85,7 @@ std::vector<ReprojectionStatistics> ComputeTagReprojection(const Dataset& datase
   for (int c = 0; c < 2; ++c) {
     if (streams[c]->empty() || c >= static_cast<int>(dataset.cameras.size())) continue;
     const auto stats = Reproject(dataset, estimate, *streams[c], dataset.cameras[c], max_gap_s);
-    if (stats.corners + stats.unmatched > 0) out.push_back(stats);
+    if (stats.corners + stats.unmatched + stats.off_image > 0) out.push_back(stats);
   }
   return out;
 }

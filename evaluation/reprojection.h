@@ -15,10 +15,11 @@
 namespace mavloc {
 
 struct ReprojectionStatistics {
-  std::string camera;  // "cam0", "cam1"
-  int corners = 0;     // corners reprojected
-  int unmatched = 0;   // corners with no estimate pose at their stamp, or < 5 cm in front
-  double rms_px = 0.0;
+  std::string camera;   // "cam0", "cam1"
+  int corners = 0;      // corners reprojected
+  int unmatched = 0;    // corners with no estimate pose at their stamp, or < 5 cm in front
+  int off_image = 0;    // reprojected more than half an image outside it (a pose far off)
+  double rms_px = 0.0;  // over the corners reprojected near the image
   double median_px = 0.0;
   double max_px = 0.0;
   int over_3px = 0;  // corners with an error above 3 px

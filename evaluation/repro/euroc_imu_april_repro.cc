@@ -425,7 +425,12 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
         }
         const auto e =
             EvaluateEstimate(split_variant(name).first, estimate, official, evaluation_options);
-        const double reprojection = e.reprojection.empty() ? kNaN : e.reprojection[0].rms_px;
+        std::string reprojection = "-";
+        if (!e.reprojection.empty()) {
+          reprojection = FormatNumber(e.reprojection[0].rms_px, 2);
+          if (e.reprojection[0].off_image > 0)
+            reprojection += fmt::format(" ({} corners off image)", e.reprojection[0].off_image);
+        }
         // The same in the board frame M (T_M_B = T_W_M^-1 T_W_B of each): the pose estimation
         // without the gravity estimate, and the angle between the two gravity directions.
         const InBoard board = CompareInBoard(estimate, runs[r].estimate);
@@ -434,8 +439,8 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
                         e.ate ? FormatNumber(e.ate->rotation_rad.rmse / kDeg, 3) : "-",
                         FormatNumber(board.position_rms_m * 1e3, 1),
                         FormatNumber(board.rotation_rms_rad / kDeg, 3),
-                        FormatNumber(board.gravity_angle_rad / kDeg, 3),
-                        FormatNumber(reprojection, 2), std::to_string(estimate.FailureCount())});
+                        FormatNumber(board.gravity_angle_rad / kDeg, 3), reprojection,
+                        std::to_string(estimate.FailureCount())});
         nlohmann::json entry = EvaluationToJson(e);
         entry["in_board_frame"] = {{"position_rms_mm", board.position_rms_m * 1e3},
                                    {"rotation_rms_deg", board.rotation_rms_rad / kDeg},
