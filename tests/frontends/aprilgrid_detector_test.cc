@@ -260,45 +260,6 @@ TEST_P(AprilgridReal, AllTagsFoundAndPnpRmsBelowHalfPixel) {
   EXPECT_LT(fit.rms_px, plain_fit.rms_px);
 }
 
-// Kalibr/yac corner files of the same frame, when the shared data carries them (the 30 frames of
-// euroc_cam_april/cam*/ are from 10 s earlier; this frame's file is absent there).
-TEST_P(AprilgridReal, AgreesWithKalibrCornerFileOfTheSameFrameIfPresent) {
-  const int camera = GetParam();
-  const std::string csv = testing::SharedDataDir() + "/euroc_cam_april/cam" +
-                          std::to_string(camera) + "/" + kStamp + ".csv";
-  if (!std::filesystem::exists(csv) || !std::filesystem::exists(ImagePath(camera)))
-    GTEST_SKIP() << "no corner file " << csv;
-  std::map<std::pair<int, int>, Eigen::Vector2d> kalibr;
-  std::ifstream in(csv);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::stringstream row(line);
-    std::vector<double> f;
-    std::string cell;
-    while (std::getline(row, cell, ',')) f.push_back(std::atof(cell.c_str()));
-    ASSERT_EQ(f.size(), 12u) << csv;
-    kalibr[{static_cast<int>(f[10]), static_cast<int>(f[11])}] = Eigen::Vector2d(f[5], f[6]);
-  }
-  TagDetector detector(AprilgridOptions());
-  double sum = 0.0, worst = 0.0;
-  int n = 0;
-  for (const auto& det : detector.Detect(LoadGrayImage(ImagePath(camera)))) {
-    for (int k = 0; k < 4; ++k) {
-      const auto it = kalibr.find({det.id, k});
-      if (it == kalibr.end()) continue;
-      const double d = (it->second - det.corners_px[k]).norm();
-      sum += d;
-      worst = std::max(worst, d);
-      ++n;
-    }
-  }
-  ASSERT_GT(n, 0);
-  std::printf("cam%d vs Kalibr: %d corners, mean %.3f px, max %.3f px\n", camera, n, sum / n,
-              worst);
-  EXPECT_LT(sum / n, 0.3);
-}
-
 INSTANTIATE_TEST_SUITE_P(Euroc, AprilgridReal, ::testing::Values(0, 1));
 
 }  // namespace
