@@ -1,17 +1,22 @@
 #include "datasets/scenarios/aprilgrid_calibration.h"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
 #include <memory>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "core/aprilgrid.h"
 #include "core/board_frame.h"
 #include "core/errors.h"
+#include "core/progress.h"
 #include "core/random.h"
 #include "core/rotation.h"
 #include "core/tag_geometry.h"
+#include "datasets/rendering/aprilgrid_renderer.h"
 #include "datasets/simulation/bspline.h"
 #include "datasets/simulation/imu_simulator.h"
 #include "datasets/simulation/trajectory.h"
@@ -337,6 +342,41 @@ Dataset GenerateAprilgridCalibration(const ScenarioOptions& options) {
                                       s.pixel_noise_px, camera_rng);
       auto& stream = c == 0 ? d.tags : d.tags1;
       stream.insert(stream.end(), observations.begin(), observations.end());
+    }
+  }
+
+  // --render: each camera's images of the grid at the exposure time (then `mavloc detect-tags
+  // --family aprilgrid` measures the corners from them), in options.image_dir (the simulate
+  // command's scratch folder, copied by the dataset writer) or a temporary folder.
+  if (options.render_images) {
+    const std::string folder = !options.image_dir.empty()
+                                   ? options.image_dir
+                                   : (std::filesystem::temp_directory_path() /
+                                      fmt::format("mavloc_render_{}_{}_{}", kName, options.seed,
+                                                  static_cast<long>(getpid())))
+                                         .string();
+    std::error_code error;
+    std::filesystem::create_directories(folder, error);
+    if (error) throw InputError(folder, 0, "", "cannot create folder: " + error.message());
+    const Pose T_W_M(R_W_M, Eigen::Vector3d::Zero());
+    for (int c = 0; c < num_cameras; ++c) {
+      TagRenderOptions render_options;
+      render_options.noise_sigma_grey = 1.0;
+      const TagRenderer renderer =
+          MakeAprilgridRenderer(d.cameras[c].model, target, T_W_M, render_options);
+      for (size_t i = 0; i < d.cameras[c].frames.size(); ++i) {
+        CameraFrame& frame = d.cameras[c].frames[i];
+        const Pose T_W_C =
+            motion.At(frame.t_ns + SecondsToNs(s.time_offset_s)).T_W_B() * T_B_C_true[c];
+        const cv::Mat image = renderer.Render({T_W_C}, SplitMix64(seeds.camera + 7919 * i + c));
+        frame.image_path =
+            (std::filesystem::path(folder) / fmt::format("cam{}_{}.png", c, frame.t_ns)).string();
+        if (!cv::imwrite(frame.image_path, image))
+          throw InputError(frame.image_path, 0, "", "cannot write rendered image");
+        if (i % 50 == 0)
+          ReportProgress("render", fmt::format("{} cam{} frame {}/{}", kName, c, i + 1,
+                                               d.cameras[c].frames.size()));
+      }
     }
   }
 

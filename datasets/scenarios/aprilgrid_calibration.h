@@ -33,7 +33,9 @@
 // bias [1], time_offset_ms [5], extrinsics_error_m [0], extrinsics_error_deg [0],
 // board_roll_deg [95], board_pitch_deg [10], distance_m [0.9], distance_amplitude_m [0.3],
 // target_amplitude_m [0.1], rotation_amplitude_deg [30], control_interval_s [0.2],
-// camera_rate_hz [20], imu_rate_hz [200], stereo [1] (0: cam0 only). Duration: --duration
+// camera_rate_hz [20], imu_rate_hz [200], stereo [1] (0: cam0 only). `--render` also renders
+// every camera frame (datasets/rendering/aprilgrid_renderer.h, 1 grey level of noise; about 0.2 s
+// a frame), for `mavloc detect-tags --family aprilgrid`. Duration: --duration
 // (default 30 s, at least 3 s).
 #pragma once
 
