@@ -20,16 +20,6 @@ std::map<std::string, std::string> ParseKeyValues(const std::vector<std::string>
   return values;
 }
 
-std::vector<std::string> SplitList(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) {
-    if (!item.empty()) items.push_back(item);
-  }
-  return items;
-}
-
 Dataset SimulateScenario(const std::string& name, const ScenarioOptions& options) {
   const ScenarioEntry* entry = FindScenario(name);
   if (!entry) {

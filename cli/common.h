@@ -7,12 +7,10 @@
 #include <vector>
 
 #include "core/dataset.h"
+#include "core/key_values.h"  // SplitList
 #include "datasets/scenarios/scenario.h"
 
 namespace mavloc::cli {
-
-// "a,b,c" -> {"a", "b", "c"} (empty items dropped).
-std::vector<std::string> SplitList(const std::string& text);
 
 // Simulates a registered scenario in memory; throws InputError for an unknown name.
 Dataset SimulateScenario(const std::string& name, const ScenarioOptions& options);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "core/errors.h"
@@ -55,6 +56,18 @@ std::string GetStringSetting(const KeyValues& values, const std::string& key,
                              const std::string& fallback) {
   const auto it = values.find(key);
   return it == values.end() ? fallback : it->second;
+}
+
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    if (!item.empty()) items.push_back(item);
+  }
+  return items;
 }
 
 }  // namespace mavloc

@@ -4,6 +4,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 namespace mavloc {
 
@@ -14,5 +15,9 @@ int GetIntSetting(const KeyValues& values, const std::string& key, int fallback)
 bool GetBoolSetting(const KeyValues& values, const std::string& key, bool fallback);
 std::string GetStringSetting(const KeyValues& values, const std::string& key,
                              const std::string& fallback);
+
+// "a, b,,c" -> {"a", "b", "c"}: a comma-separated list (estimator names, scenarios), items
+// trimmed of blanks, empty items dropped.
+std::vector<std::string> SplitList(const std::string& text);
 
 }  // namespace mavloc

@@ -31,20 +31,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // chi-square with 3 degrees of freedom at 99.73 % (the probability of 3 sigma in one dimension).
 constexpr double kChi2ThreeDof3Sigma = 14.16;
 
-std::string Setting(const ReproOptions& options, const std::string& key,
-                    const std::string& fallback) {
-  return GetStringSetting(options.settings, key, fallback);
-}
-
-std::vector<std::string> SplitCommaList(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ','))
-    if (!item.empty()) items.push_back(item);
-  return items;
-}
-
 // The nearest signed permutation matrix: a camera mounting known only "by the drawing".
 Eigen::Matrix3d RoundToAxes(const Eigen::Matrix3d& R) {
   Eigen::Matrix3d out = Eigen::Matrix3d::Zero();
@@ -155,16 +141,18 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
       throw InputError("repro euroc-imu-april: unknown setting '" + key +
                        "' (data, official, initial, duration_s, estimators, smoother.KEY)");
   }
-  const std::string data = Setting(options, "data", "../shared/data/euroc_imu_april");
+  const std::string data =
+      GetStringSetting(options.settings, "data", "../shared/data/euroc_imu_april");
   const std::string official_root =
-      Setting(options, "official", "../shared/data/euroc_v1_01_easy/mav0");
-  const std::string initial = Setting(options, "initial", "coarse");
+      GetStringSetting(options.settings, "official", "../shared/data/euroc_v1_01_easy/mav0");
+  const std::string initial = GetStringSetting(options.settings, "initial", "coarse");
   if (initial != "coarse" && initial != "official")
     throw InputError("repro euroc-imu-april: initial must be coarse or official, not '" + initial +
                      "'");
   const double duration_s = GetDoubleSetting(options.settings, "duration_s", 0.0);
-  const auto estimators = SplitCommaList(Setting(
-      options, "estimators", "tag-pnp,tag-ekf,tag-ekf:gate_chi2=0,pnp,upright-2p,pixhawk-kf"));
+  const auto estimators =
+      SplitList(GetStringSetting(options.settings, "estimators",
+                                 "tag-pnp,tag-ekf,tag-ekf:gate_chi2=0,pnp,upright-2p,pixhawk-kf"));
   // "name" or "name:key=value" (a variant with one option).
   auto split_variant = [](const std::string& item) {
     const auto colon = item.find(':');

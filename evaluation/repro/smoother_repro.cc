@@ -734,18 +734,6 @@ nlohmann::json ScenarioJson(const ScenarioResult& s) {
   return j;
 }
 
-std::vector<std::string> SplitList(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) {
-    item.erase(0, item.find_first_not_of(" \t"));
-    item.erase(item.find_last_not_of(" \t") + 1);
-    if (!item.empty()) items.push_back(item);
-  }
-  return items;
-}
-
 }  // namespace
 
 int RunSmootherRepro(const ReproOptions& options) {

@@ -123,7 +123,8 @@ TEST_F(CliPipeline, CompareWritesTheReportContract) {
 }
 
 TEST(CliHelp, EveryCommandHasHelp) {
-  for (const char* command : {"", "list", "simulate", "run", "eval", "compare", "repro"}) {
+  for (const char* command : {"", "list", "simulate", "run", "eval", "compare", "repro",
+                              "import-aprilgrid", "detect-tags"}) {
     const auto r = RunCommand(Cli(std::string(command) + " --help"));
     EXPECT_EQ(r.exit_code, 0) << command << r.output;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << command;
@@ -217,6 +218,34 @@ TEST_F(CliBadFiles, BadSettingValue) {
           Cli("simulate --scenario mav-figure-eight --set landmarks=many --out " + dir_ + "/s")),
       "setting 'landmarks=many': expected an integer");
   EXPECT_FALSE(fs::exists(dir_ + "/s"));
+}
+
+TEST_F(CliBadFiles, MalformedReferenceTrajectory) {
+  // compare --reference FILE reads the file with the trajectory readers' checks.
+  Write("ref.txt", "1.0 0 0 0 0 0 0 1\n2.0 1 0 zero 0 0 0 1\n");
+  ExpectCleanFailure(RunCommand(Cli("compare --scenario mav-figure-eight --duration 4 "
+                                    "--estimators imu-dead-reckoning --reference " +
+                                    dir_ + "/ref.txt --report " + dir_ + "/r")),
+                     "ref.txt:2: field 'tz': 'zero' is not a number");
+  EXPECT_FALSE(fs::exists(dir_ + "/r"));
+}
+
+TEST_F(CliBadFiles, BadIssue12Options) {
+  ExpectCleanFailure(RunCommand(Cli("repro euroc-imu-april --set nope=1 --report " + dir_ + "/r")),
+                     "unknown setting 'nope'");
+  ExpectCleanFailure(
+      RunCommand(Cli("repro euroc-imu-april --set initial=guess --report " + dir_ + "/r")),
+      "initial must be coarse or official");
+  ExpectCleanFailure(RunCommand(Cli("repro euroc-imu-april --set estimators=tag-ekf:gate "
+                                    "--report " +
+                                    dir_ + "/r")),
+                     "must read name:key=value");
+  EXPECT_FALSE(fs::exists(dir_ + "/r"));
+  Write("img.png", "not an image");
+  ExpectCleanFailure(RunCommand(Cli("detect-tags --family tag99h99 --images " + dir_ +
+                                    "/img.png --out " + dir_ + "/t.csv")),
+                     "tag99h99");
+  EXPECT_FALSE(fs::exists(dir_ + "/t.csv"));
 }
 
 }  // namespace
