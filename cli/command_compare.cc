@@ -1,5 +1,6 @@
 // mavloc compare: run every applicable estimator on a dataset or a simulated scenario, print one
-// table and write a report folder (report.md, report.json, errors.csv).
+// table and write a report folder (report.md, report.json, errors.csv, the trajectories, figures
+// and report.html).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -10,7 +11,9 @@
 #include "core/errors.h"
 #include "core/progress.h"
 #include "datasets/io/euroc_io.h"
+#include "datasets/io/log_reader.h"
 #include "evaluation/comparison.h"
+#include "evaluation/report_figures.h"
 #include "evaluation/report_writer.h"
 
 namespace mavloc::cli {
@@ -46,9 +49,10 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       ->check(CLI::IsMember({"none", "se3", "sim3", "posyaw"}))
       ->capture_default_str();
   command->add_option("--reference", args->reference,
-                      "Compare against this estimator's output or this trajectory file (TUM or "
-                      "EuRoC CSV) instead of the ground truth: for logs without ground truth. The "
-                      "reference is an estimate, not a truth");
+                      "Compare against this estimator's output, this trajectory file (TUM or "
+                      "EuRoC CSV) or a log topic (LOG.bag:/odom, LOG.ulg:vehicle_attitude) "
+                      "instead of the ground truth: for logs without ground truth. The reference "
+                      "is an estimate, not a truth");
   command->add_option("--max-dt", args->max_dt_s, "Association tolerance in seconds")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -73,10 +77,13 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
         !args->reference.empty() && FindEstimator(args->reference) != nullptr;
     std::optional<ComparisonReference> reference;
     if (!args->reference.empty() && !reference_is_estimator) {
-      if (!std::filesystem::exists(args->reference))
+      if (const auto log_topic = ParseLogTopicSpec(args->reference))
+        reference = ReferenceFromLogTrajectory(args->reference, ReadLogTrajectory(*log_topic));
+      else if (!std::filesystem::exists(args->reference))
         throw InputError(args->reference, 0, "--reference",
                          "neither an estimator name (see `mavloc list`) nor an existing file");
-      reference = ReferenceFromTrajectory(args->reference, ReadTrajectoryFile(args->reference));
+      else
+        reference = ReferenceFromTrajectory(args->reference, ReadTrajectoryFile(args->reference));
     }
 
     // Estimator options: "name:key=value" for one estimator, "key=value" for all.
@@ -164,8 +171,9 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
     }
     if (reference) {
       files.json["reference"] = {
-          {"kind", reference->kind == ComparisonReference::Kind::kEstimator ? "estimator"
-                                                                            : "trajectory_file"},
+          {"kind", reference->kind == ComparisonReference::Kind::kEstimator  ? "estimator"
+                   : reference->kind == ComparisonReference::Kind::kLogTopic ? "log_topic"
+                                                                             : "trajectory_file"},
           {"name", reference->name},
           {"is_truth", false}};
       files.markdown += "**Reference: " + reference->Describe() +
@@ -186,9 +194,11 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
           "` alignment, wall-clock runtime, and frames without a solution.\n\n" + table;
     }
     files.extra["errors.csv"] = ErrorsCsv(evaluations);
+    files.extra.merge(ComparisonTrajectoryFiles(dataset, evaluations));
     WriteReportFolder(args->report, files);
-    std::printf("\nreport written to %s/ (report.md, report.json, errors.csv)\n",
+    std::printf("\nreport written to %s/ (report.md, report.json, errors.csv, trajectories)\n",
                 args->report.c_str());
+    std::printf("%s\n", DescribeFigureOutcome(WriteReportFigures(args->report)).c_str());
     *exit_code = 0;
   });
 }

@@ -1,37 +1,372 @@
-// mavloc eval: ATE and RPE of an estimated trajectory against a ground truth (TUM or EuRoC files).
+// mavloc eval: several estimates (files, or folders of runs of one estimator) against one ground
+// truth, with the metrics and options of evo (evo_ape / evo_rpe) and rpg_trajectory_evaluation
+// (evaluation/trajectory_evaluation.h), in any trajectory format mavloc reads
+// (datasets/io/trajectory_formats/trajectory_format.h). Prints one table (estimates x metrics,
+// mean and standard deviation over runs); --out DIR writes the report folder of eval_report.h and
+// its figures (evaluation/report_figures.h); --json FILE writes eval.json alone.
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <cstdio>
-#include <nlohmann/json.hpp>
+#include <filesystem>
+#include <map>
+#include <set>
 
 #include "cli/commands.h"
+#include "cli/eval_report.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
-#include "datasets/io/euroc_io.h"
-#include "evaluation/association.h"
-#include "evaluation/trajectory_metrics.h"
+#include "datasets/io/log_reader.h"
+#include "datasets/io/trajectory_formats/trajectory_format.h"
+#include "evaluation/report_figures.h"
+#include "evaluation/trajectory_evaluation.h"
 
 namespace mavloc::cli {
 
 namespace {
 
-std::vector<StampedPose> Poses(const std::vector<GroundTruthState>& states) {
-  std::vector<StampedPose> poses;
-  for (const auto& s : states) poses.push_back({s.t_ns, s.T_W_B});
-  return poses;
+namespace fs = std::filesystem;
+
+struct Args {
+  std::string gt, gt_format = "auto", gt_times, out, json;
+  std::vector<std::string> est, labels, est_formats, est_times;
+  bool sort = false;
+  // evo-compatible options.
+  std::string align = "se3", pose_relation = "trans_part", delta_unit = "f";
+  long n_to_align = -1;
+  bool align_origin = false, all_pairs = false, nearest = false;
+  bool align_given = false;  // --align on the command line
+  double delta = 1.0, t_max_diff_s = 0.01, t_offset_s = 0.0;
+  std::vector<double> rel_lengths_m;
+  // Options of `mavloc eval` before issue 13 (still accepted).
+  double max_dt_s = -1.0;
+  std::vector<double> rpe_distances_m, rpe_times_s;
+};
+
+// Trajectory files of a runs folder: regular, not hidden, .txt/.csv/.tum/.kitti, sorted by name.
+std::vector<std::string> RunFiles(const std::string& folder) {
+  std::vector<std::string> files;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    if (!entry.is_regular_file()) continue;
+    const std::string name = entry.path().filename().string();
+    const std::string ext = entry.path().extension().string();
+    if (name.empty() || name[0] == '.') continue;
+    if (ext == ".txt" || ext == ".csv" || ext == ".tum" || ext == ".kitti")
+      files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty())
+    throw InputError(folder, 0, "", "folder holds no trajectory file (.txt, .csv, .tum, .kitti)");
+  return files;
 }
 
-nlohmann::json StatsJson(const ErrorStatistics& s, double scale = 1.0) {
-  return {{"rmse", s.rmse * scale}, {"mean", s.mean * scale}, {"median", s.median * scale},
-          {"std", s.std * scale},   {"min", s.min * scale},   {"max", s.max * scale},
-          {"count", s.count}};
+// Labels are used in file names and CSV cells: letters, digits, '-', '_', '.', '+' only.
+std::string SafeLabel(const std::string& text) {
+  std::string out;
+  for (char c : text)
+    out +=
+        std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' || c == '+'
+            ? c
+            : '_';
+  return out.empty() ? "estimate" : out;
 }
 
-void PrintStats(const char* title, const ErrorStatistics& s, const char* unit, double scale = 1.0) {
-  std::printf(
-      "%-24s rmse %.6f  mean %.6f  median %.6f  std %.6f  min %.6f  max %.6f %s  (%zu pairs)\n",
-      title, s.rmse * scale, s.mean * scale, s.median * scale, s.std * scale, s.min * scale,
-      s.max * scale, unit, s.count);
+std::string DefaultLabel(const std::string& source) {
+  if (const auto log_topic = ParseLogTopicSpec(source))  // "run.bag:/vio/odom" -> run_vio_odom
+    return fs::path(log_topic->path).stem().string() + log_topic->topic;
+  fs::path p(source);
+  while (!p.empty() && p.filename().empty()) p = p.parent_path();  // "dir/" -> "dir"
+  return fs::is_directory(p) ? p.filename().string() : p.stem().string();
+}
+
+// One value per --est, or one for all, or none (then `fallback`).
+std::string PerEstimate(const std::vector<std::string>& values, size_t k, size_t count,
+                        const char* flag, const std::string& fallback) {
+  if (values.empty()) return fallback;
+  if (values.size() == 1) return values[0];
+  if (values.size() != count)
+    throw InputError(flag, 0, "",
+                     fmt::format("given {} times: give it once (for every --est) or once per "
+                                 "--est ({})",
+                                 values.size(), count));
+  return values[k];
+}
+
+TrajectoryFormat FormatOption(const std::string& value, const char* flag) {
+  const auto format = ParseTrajectoryFormat(value);
+  if (!format)
+    throw InputError(flag, 0, "", "'" + value + "' is not a format (auto, tum, euroc, asl, kitti)");
+  return *format;
+}
+
+EvaluationProtocol ProtocolFromArgs(const Args& a) {
+  EvaluationProtocol p;
+  const auto align = ParseAlignmentMode(a.align);
+  if (!align)
+    throw InputError("--align", 0, "", "'" + a.align + "' is not none, se3, sim3, posyaw");
+  p.alignment = *align;
+  if (a.n_to_align == 0 || a.n_to_align < -1)
+    throw InputError(
+        "--n-to-align", 0, "",
+        fmt::format("{} is not a number of pairs (-1 = all, or N >= 1)", a.n_to_align));
+  p.n_to_align = a.n_to_align;
+  p.align_origin = a.align_origin;
+  // evo: --align_origin replaces the Umeyama alignment (given alone, without -a).
+  if (a.align_origin) {
+    if (a.align_given && p.alignment != AlignmentMode::kNone)
+      throw InputError("--align-origin", 0, "",
+                       "replaces the alignment: give it without --align (or with --align none)");
+    p.alignment = AlignmentMode::kNone;
+  }
+  const auto relation = ParsePoseRelation(a.pose_relation);
+  if (!relation)
+    throw InputError("--pose-relation", 0, "",
+                     "'" + a.pose_relation + "' is not trans_part, angle_deg, rot_part, full");
+  p.ape_relation = *relation;
+  const double max_diff = a.max_dt_s > 0.0 ? a.max_dt_s : a.t_max_diff_s;
+  if (!(max_diff > 0.0) || !std::isfinite(max_diff))
+    throw InputError("--t-max-diff", 0, "",
+                     fmt::format("{:g} s: the association tolerance must be > 0", max_diff));
+  p.max_dt_s = max_diff;
+  if (!std::isfinite(a.t_offset_s))
+    throw InputError("--t-offset", 0, "", "must be a finite number of seconds");
+  p.time_offset_s = a.t_offset_s;
+  p.association = a.nearest ? AssociationMode::kNearest : AssociationMode::kInterpolate;
+  const auto unit = ParseDeltaUnit(a.delta_unit);
+  if (!unit) throw InputError("--delta-unit", 0, "", "'" + a.delta_unit + "' is not f, m or s");
+  if (!(a.delta > 0.0) || !std::isfinite(a.delta))
+    throw InputError("--delta", 0, "", fmt::format("{:g}: the RPE delta must be > 0", a.delta));
+  if (*unit == DeltaUnit::kFrames && a.delta != std::floor(a.delta))
+    throw InputError("--delta", 0, "",
+                     fmt::format("{:g}: a delta in frames must be a whole number", a.delta));
+  p.rpe_deltas.clear();
+  p.rpe_deltas.push_back(RpeDelta{a.delta, *unit, a.all_pairs});
+  for (double d : a.rpe_distances_m) {
+    if (!(d > 0.0)) throw InputError("--rpe-distance", 0, "", fmt::format("{:g}: must be > 0", d));
+    p.rpe_deltas.push_back(RpeDelta{d, DeltaUnit::kMetres, a.all_pairs});
+  }
+  for (double t : a.rpe_times_s) {
+    if (!(t > 0.0)) throw InputError("--rpe-time", 0, "", fmt::format("{:g}: must be > 0", t));
+    p.rpe_deltas.push_back(RpeDelta{t, DeltaUnit::kSeconds, a.all_pairs});
+  }
+  for (double l : a.rel_lengths_m)
+    if (!(l > 0.0) || !std::isfinite(l))
+      throw InputError("--rel-lengths", 0, "", fmt::format("{:g} m: lengths must be > 0", l));
+  p.relative_lengths_m = a.rel_lengths_m;
+  return p;
+}
+
+void PrintRowFixes(const TrajectoryReadReport& report) {
+  const std::string fixes = DescribeRowFixes(report);
+  if (!fixes.empty()) std::fprintf(stderr, "mavloc: note: %s\n", fixes.c_str());
+}
+
+std::vector<StampedPose> AlignedEstimate(const std::vector<StampedPose>& estimate,
+                                         const TrajectoryEvaluation& e, double time_offset_s) {
+  std::vector<StampedPose> out;
+  out.reserve(estimate.size());
+  const Eigen::Quaterniond q_align(e.alignment.R);
+  for (const auto& pose : estimate) {
+    StampedPose aligned;
+    aligned.t_ns = pose.t_ns + SecondsToNs(time_offset_s);
+    aligned.T_W_B.p = e.alignment.Apply(pose.T_W_B.p);
+    aligned.T_W_B.q = (q_align * pose.T_W_B.q).normalized();
+    out.push_back(aligned);
+  }
+  return out;
+}
+
+std::string Seconds(TimeNs t_ns) { return fmt::format("{:.3f}", NsToSeconds(t_ns)); }
+
+// Evaluates one run; throws InputError naming the estimate file when nothing can be computed.
+EvalRun EvaluateRun(const std::string& file, const LoadedTrajectory& estimate,
+                    const LoadedTrajectory& truth, const EvaluationProtocol& protocol,
+                    const std::string& truth_path) {
+  EvalRun run;
+  run.file = file;
+  run.input = estimate.report;
+  EvaluationProtocol p = protocol;
+  if (!estimate.report.has_stamps || !truth.report.has_stamps) {
+    // evo_ape/evo_rpe on KITTI pose files: no stamps, the i-th poses are compared.
+    if (estimate.report.has_stamps != truth.report.has_stamps)
+      throw InputError(file, 0, "",
+                       fmt::format("{} has no stamps (KITTI without a times file) and {} has: give "
+                                   "--gt-times/--est-times, or KITTI files for both (then "
+                                   "associated by index, as evo does)",
+                                   estimate.report.has_stamps ? truth_path : file,
+                                   estimate.report.has_stamps ? file : truth_path));
+    if (estimate.states.size() != truth.states.size())
+      throw InputError(file, 0, "",
+                       fmt::format("KITTI files without times are associated by index (as evo "
+                                   "does), which needs as many poses as the ground truth: {} here, "
+                                   "{} in {}",
+                                   estimate.states.size(), truth.states.size(), truth_path));
+    run.by_index = true;
+    p.association = AssociationMode::kNearest;
+    p.max_dt_s = 0.01;
+    p.time_offset_s = 0.0;
+  }
+  const std::vector<StampedPose> est = estimate.Poses();
+  const std::vector<StampedPose> gt = truth.Poses();
+  std::string why;
+  TrajectoryDiagnostics diagnostics;
+  auto evaluation = EvaluateTrajectory(est, gt, p, &why, &diagnostics);
+  if (!evaluation) {
+    const PairCountDiagnostic& d = diagnostics.pair_count;
+    if (d.pairs == 0)
+      throw InputError(
+          file, 0, "",
+          fmt::format("no estimate stamp overlaps the ground truth '{}' within {:g} s "
+                      "(estimate {} .. {} s, ground truth {} .. {} s, time offset "
+                      "{:g} s)",
+                      truth_path, p.max_dt_s, Seconds(est.front().t_ns), Seconds(est.back().t_ns),
+                      Seconds(gt.front().t_ns), Seconds(gt.back().t_ns), p.time_offset_s));
+    throw InputError(file, 0, "", "cannot evaluate: " + why);
+  }
+  run.evaluation = std::move(*evaluation);
+  run.aligned_estimate = AlignedEstimate(est, run.evaluation, p.time_offset_s);
+  return run;
+}
+
+// Writes every file into "<dir>.tmp-<pid>" and renames it to dir: nothing is left at dir on
+// error. An existing dir is replaced only when it is empty or an earlier eval report.
+void WriteFolderAtomically(const std::string& dir,
+                           const std::map<std::string, std::string>& files) {
+  fs::path target(dir);
+  while (!target.empty() && target.filename().empty()) target = target.parent_path();
+  const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  if (!fs::is_directory(parent))
+    throw InputError(dir, 0, "",
+                     "the output's parent folder '" + parent.string() + "' does not exist");
+  std::error_code error;
+  const bool exists = fs::exists(target);
+  if (exists && !fs::is_directory(target))
+    throw InputError(dir, 0, "", "exists and is not a folder");
+  if (exists && !fs::is_empty(target, error) && !fs::exists(target / "eval.json"))
+    throw InputError(dir, 0, "", "folder exists, is not empty and is not an eval report");
+  const std::string suffix = std::to_string(::getpid());
+  const fs::path temporary = target.string() + ".tmp-" + suffix;
+  fs::remove_all(temporary, error);
+  try {
+    fs::create_directories(temporary);
+    for (const auto& [name, contents] : files)
+      WriteFileAtomically((temporary / name).string(), contents);
+    const fs::path old = target.string() + ".old-" + suffix;
+    if (exists) fs::rename(target, old);
+    fs::rename(temporary, target);
+    if (exists) fs::remove_all(old, error);
+  } catch (const fs::filesystem_error& e) {
+    fs::remove_all(temporary, error);
+    throw InputError(dir, 0, "", std::string("cannot write the report: ") + e.what());
+  } catch (...) {
+    fs::remove_all(temporary, error);
+    throw;
+  }
+}
+
+void Run(const Args& a) {
+  EvaluationProtocol protocol = ProtocolFromArgs(a);
+  if (!a.labels.empty() && a.labels.size() != a.est.size())
+    throw InputError("--label", 0, "",
+                     fmt::format("given {} times for {} --est: give one label per --est",
+                                 a.labels.size(), a.est.size()));
+  TrajectoryReadOptions truth_options;
+  truth_options.format = FormatOption(a.gt_format, "--gt-format");
+  truth_options.sort = a.sort;
+  truth_options.times_path = a.gt_times;
+  const LoadedTrajectory truth = ReadTrajectory(a.gt, truth_options);
+  PrintRowFixes(truth.report);
+
+  // Read every input before evaluating anything: a bad file stops the command before any output.
+  struct Input {
+    std::string label, source;
+    bool is_folder = false;
+    std::vector<std::pair<std::string, LoadedTrajectory>> runs;
+  };
+  std::vector<Input> inputs;
+  std::set<std::string> used_labels;
+  for (size_t k = 0; k < a.est.size(); ++k) {
+    Input input;
+    input.source = a.est[k];
+    if (!fs::exists(input.source) && !ParseLogTopicSpec(input.source))
+      throw InputError(input.source, 0, "", "file does not exist");
+    input.is_folder = fs::is_directory(input.source);
+    std::string label = SafeLabel(a.labels.empty() ? DefaultLabel(input.source) : a.labels[k]);
+    for (int n = 2; used_labels.count(label); ++n)
+      label = SafeLabel(a.labels.empty() ? DefaultLabel(input.source) : a.labels[k]) + "_" +
+              std::to_string(n);
+    used_labels.insert(label);
+    input.label = label;
+    TrajectoryReadOptions options;
+    options.format = FormatOption(
+        PerEstimate(a.est_formats, k, a.est.size(), "--est-format", "auto"), "--est-format");
+    options.sort = a.sort;
+    options.times_path = PerEstimate(a.est_times, k, a.est.size(), "--est-times", "");
+    const std::vector<std::string> files =
+        input.is_folder ? RunFiles(input.source) : std::vector<std::string>{input.source};
+    for (const auto& file : files) {
+      LoadedTrajectory loaded = ReadTrajectory(file, options);
+      PrintRowFixes(loaded.report);
+      input.runs.emplace_back(file, std::move(loaded));
+    }
+    inputs.push_back(std::move(input));
+  }
+
+  EvalReport report;
+  report.truth = truth.report;
+  report.truth_poses = truth.Poses();
+  report.relative_lengths_given = !protocol.relative_lengths_m.empty();
+  for (const auto& input : inputs) {
+    EvalEstimate estimate;
+    estimate.label = input.label;
+    estimate.source = input.source;
+    estimate.is_folder = input.is_folder;
+    for (size_t r = 0; r < input.runs.size(); ++r) {
+      EvalRun run = EvaluateRun(input.runs[r].first, input.runs[r].second, truth, protocol, a.gt);
+      // rpg's default lengths come from the first evaluation; every other one uses the same.
+      if (protocol.relative_lengths_m.empty())
+        protocol.relative_lengths_m = run.evaluation.protocol.relative_lengths_m;
+      run.run = input.is_folder ? static_cast<int>(r + 1) : 0;
+      estimate.runs.push_back(std::move(run));
+    }
+    report.estimates.push_back(std::move(estimate));
+  }
+  report.protocol = protocol;
+
+  // evo-style statistics per run, then the table.
+  for (const auto& e : report.estimates)
+    for (const auto& r : e.runs) {
+      const auto& ev = r.evaluation;
+      const auto& t = ev.ape_translation_m;
+      std::printf(
+          "%s%s: %zu of %zu poses associated; ATE translation rmse %.6f mean %.6f median "
+          "%.6f std %.6f min %.6f max %.6f m; rotation rmse %.6f deg\n",
+          e.label.c_str(), r.run > 0 ? fmt::format(" run {}", r.run).c_str() : "", ev.pair_count,
+          ev.estimate_count, t.rmse, t.mean, t.median, t.std, t.min, t.max,
+          ev.ape_rotation_deg.rmse);
+    }
+  std::printf("%s", EvalSummaryTable(report).c_str());
+  const nlohmann::json json = EvalJson(report);
+  for (const auto& line : json["protocol_lines"])
+    std::printf("- %s\n", line.get<std::string>().c_str());
+  for (const auto& e : report.estimates)
+    for (const auto& r : e.runs)
+      for (const auto& message : r.evaluation.diagnostics.Messages())
+        std::printf("diagnostic: %s%s: %s\n", e.label.c_str(),
+                    r.run > 0 ? fmt::format(" run {}", r.run).c_str() : "", message.c_str());
+  if (!a.json.empty()) WriteFileAtomically(a.json, json.dump(2) + "\n");
+  if (!a.out.empty()) {
+    WriteFolderAtomically(a.out, EvalReportFiles(report));
+    std::printf(
+        "report: %s (eval.md, eval.tex, eval.json, truth.tum, estimates, "
+        "errors_over_time.csv, relative_errors.csv)\n",
+        a.out.c_str());
+    const FigureOutcome figures = WriteReportFigures(a.out);
+    std::printf("%s\n", DescribeFigureOutcome(figures).c_str());
+  }
 }
 
 }  // namespace
@@ -39,81 +374,63 @@ void PrintStats(const char* title, const ErrorStatistics& s, const char* unit, d
 void RegisterEval(CLI::App& app, int* exit_code) {
   auto* command = app.add_subcommand(
       "eval",
-      "Absolute and relative trajectory error of --est against --gt (TUM or EuRoC CSV files)");
-  struct Args {
-    std::string gt, est, align = "se3", json;
-    double max_dt_s = 0.02;
-    std::vector<double> rpe_distances_m{1.0};
-    std::vector<double> rpe_times_s;
-    bool nearest = false;
-  };
-  auto args = std::make_shared<Args>();
+      "APE, RPE (evo) and relative error (rpg) of one or more estimates against a ground truth; "
+      "formats TUM, EuRoC/ASL CSV, KITTI detected from the content");
+  auto a = std::make_shared<Args>();
+  command->add_option("--gt", a->gt, "Ground truth trajectory file")->required();
   command
-      ->add_option("--gt", args->gt, "Ground truth: TUM file or EuRoC state_groundtruth data.csv")
+      ->add_option("--est", a->est,
+                   "Estimate: a trajectory file, or a folder of runs of one estimator (every "
+                   ".txt/.csv/.tum/.kitti inside); repeat for several")
       ->required();
-  command->add_option("--est", args->est, "Estimate: TUM file or EuRoC-format CSV")->required();
-  command->add_option("--align", args->align, "Alignment: none, se3, sim3 or posyaw (4-DoF)")
-      ->check(CLI::IsMember({"none", "se3", "sim3", "posyaw"}))
+  command->add_option("--label", a->labels, "Label of each --est (default: file or folder name)");
+  command->add_option("--gt-format", a->gt_format, "auto, tum, euroc, asl or kitti")
       ->capture_default_str();
-  command->add_option("--max-dt", args->max_dt_s, "Association tolerance in seconds")
-      ->check(CLI::PositiveNumber)
+  command->add_option("--est-format", a->est_formats,
+                      "auto, tum, euroc, asl or kitti (once for all, or once per --est)");
+  command->add_option("--gt-times", a->gt_times, "KITTI ground truth: times file (s per line)");
+  command->add_option("--est-times", a->est_times,
+                      "KITTI estimate: times file (once for all, or once per --est)");
+  command->add_flag("--sort", a->sort,
+                    "Sort rows by time instead of refusing rows out of order (said in the report)");
+  command
+      ->add_option("--align", a->align,
+                   "Alignment: none, se3, sim3 or posyaw (4-DoF); evo's default is none")
       ->capture_default_str();
-  command->add_flag("--nearest", args->nearest,
-                    "Pair with the nearest ground-truth stamp instead of interpolating");
-  command->add_option("--rpe-distance", args->rpe_distances_m, "RPE windows in metres travelled")
+  command
+      ->add_option("--n-to-align", a->n_to_align,
+                   "Estimate the alignment on the first N pairs (-1: all; evo --n_to_align)")
       ->capture_default_str();
-  command->add_option("--rpe-time", args->rpe_times_s, "RPE windows in seconds");
-  command->add_option("--json", args->json, "Also write the statistics as JSON to this file");
-  command->callback([args, exit_code] {
-    const auto gt = Poses(ReadTrajectoryFile(args->gt));
-    const auto est = Poses(ReadTrajectoryFile(args->est));
-    const auto pairs =
-        AssociatePoses(est, gt, args->max_dt_s,
-                       args->nearest ? AssociationMode::kNearest : AssociationMode::kInterpolate);
-    if (pairs.empty())
-      throw InputError(args->est, 0, "",
-                       "no estimate stamp overlaps the ground truth '" + args->gt + "' within " +
-                           fmt::format("{}", args->max_dt_s) + " s");
-    const AlignmentMode mode = *ParseAlignmentMode(args->align);
-    const auto ate = ComputeAte(pairs, mode);
-    if (!ate)
-      throw InputError(args->est, 0, "",
-                       "cannot align with '" + args->align +
-                           "': too few pairs or all estimated positions coincide");
-    std::printf("%zu of %zu estimated poses associated (max dt %.3f s), alignment %s", pairs.size(),
-                est.size(), args->max_dt_s, args->align.c_str());
-    if (mode == AlignmentMode::kSim3) std::printf(", scale %.6f", ate->alignment.scale);
-    std::printf("\n");
-    PrintStats("ATE translation", ate->translation_m, "m");
-    PrintStats("ATE rotation", ate->rotation_rad, "deg", 180.0 / M_PI);
-    nlohmann::json j;
-    j["pairs"] = pairs.size();
-    j["align"] = args->align;
-    j["alignment"] = {{"scale", ate->alignment.scale},
-                      {"t", {ate->alignment.t.x(), ate->alignment.t.y(), ate->alignment.t.z()}}};
-    j["ate"] = StatsJson(ate->translation_m);
-    j["ate"]["unit"] = "m";
-    j["ate_rotation"] = StatsJson(ate->rotation_rad, 180.0 / M_PI);
-    j["ate_rotation"]["unit"] = "deg";
-    j["rpe"] = nlohmann::json::array();
-    auto rpe = [&](RpeWindow window, double delta, const char* unit) {
-      const auto r = ComputeRpe(pairs, window, delta);
-      const std::string title = fmt::format("RPE {:g} {} trans", delta, unit);
-      if (!r) {
-        std::printf("%-24s no pair of poses %g %s apart\n", title.c_str(), delta, unit);
-        return;
-      }
-      PrintStats(title.c_str(), r->translation_m, "m");
-      PrintStats(fmt::format("RPE {:g} {} rot", delta, unit).c_str(), r->rotation_rad, "deg",
-                 180.0 / M_PI);
-      j["rpe"].push_back({{"window", unit},
-                          {"delta", delta},
-                          {"translation", StatsJson(r->translation_m)},
-                          {"rotation_deg", StatsJson(r->rotation_rad, 180.0 / M_PI)}});
-    };
-    for (double d : args->rpe_distances_m) rpe(RpeWindow::kDistance, d, "m");
-    for (double t : args->rpe_times_s) rpe(RpeWindow::kTime, t, "s");
-    if (!args->json.empty()) WriteFileAtomically(args->json, j.dump(2) + "\n");
+  command->add_flag("--align-origin", a->align_origin,
+                    "Align the first poses (evo --align_origin)");
+  command
+      ->add_option("--pose-relation", a->pose_relation,
+                   "Headline APE relation: trans_part, angle_deg, rot_part or full (evo -r)")
+      ->capture_default_str();
+  command->add_option("--delta", a->delta, "RPE delta (evo --delta)")->capture_default_str();
+  command->add_option("--delta-unit", a->delta_unit, "RPE delta unit: f, m or s (evo --delta_unit)")
+      ->capture_default_str();
+  command->add_flag("--all-pairs", a->all_pairs, "RPE over all pairs (evo --all_pairs)");
+  command
+      ->add_option("--t-max-diff", a->t_max_diff_s, "Association tolerance [s] (evo --t_max_diff)")
+      ->capture_default_str();
+  command
+      ->add_option("--t-offset", a->t_offset_s,
+                   "Seconds added to the estimates' stamps (evo --t_offset)")
+      ->capture_default_str();
+  command->add_flag("--nearest", a->nearest,
+                    "Pair with the nearest ground-truth stamp (evo) instead of interpolating");
+  command->add_option("--rel-lengths", a->rel_lengths_m,
+                      "Relative-error lengths [m] (default: 10..50 % of the trajectory length)");
+  command->add_option("--out", a->out,
+                      "Write the report folder (eval.md, eval.tex, eval.json, ...)");
+  command->add_option("--json", a->json, "Also write eval.json to this file");
+  command->add_option("--max-dt", a->max_dt_s, "Same as --t-max-diff (older name)");
+  command->add_option("--rpe-distance", a->rpe_distances_m, "Extra RPE deltas in metres");
+  command->add_option("--rpe-time", a->rpe_times_s, "Extra RPE deltas in seconds");
+  command->callback([a, exit_code, command] {
+    a->align_given = command->get_option("--align")->count() > 0;
+    Run(*a);
     *exit_code = 0;
   });
 }

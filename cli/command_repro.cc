@@ -1,6 +1,9 @@
-// mavloc repro NAME: reproduce a paper's tables (see `mavloc list`).
+// mavloc repro NAME: reproduce a paper's tables (see `mavloc list`), with figures and report.html.
+#include <cstdio>
+
 #include "cli/commands.h"
 #include "core/errors.h"
+#include "evaluation/report_figures.h"
 #include "evaluation/repro/repro.h"
 
 namespace mavloc::cli {
@@ -34,6 +37,7 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
     options.report_dir = args->report;
     options.settings = ParseKeyValues(args->settings, "--set");
     *exit_code = entry->run(options);
+    std::printf("%s\n", DescribeFigureOutcome(WriteReportFigures(options.report_dir)).c_str());
   });
 }
 

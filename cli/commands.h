@@ -11,12 +11,16 @@ void RegisterList(CLI::App& app, int* exit_code);
 void RegisterSimulate(CLI::App& app, int* exit_code);
 void RegisterRun(CLI::App& app, int* exit_code);
 void RegisterEval(CLI::App& app, int* exit_code);
+void RegisterConvert(CLI::App& app, int* exit_code);
 void RegisterCompare(CLI::App& app, int* exit_code);
 void RegisterRepro(CLI::App& app, int* exit_code);
 void RegisterObservability(CLI::App& app, int* exit_code);
 void RegisterDetectTags(CLI::App& app, int* exit_code);
 void RegisterObstacles(CLI::App& app, int* exit_code);
 void RegisterImportAprilgrid(CLI::App& app, int* exit_code);
+void RegisterFigures(CLI::App& app, int* exit_code);
+void RegisterImportTagslam(CLI::App& app, int* exit_code);
+void RegisterLog(CLI::App& app, int* exit_code);
 
 // Parses "key=value" items (from repeated --set / --option flags) into a map; throws InputError.
 std::map<std::string, std::string> ParseKeyValues(const std::vector<std::string>& items,

@@ -30,12 +30,16 @@ int main(int argc, char** argv) {
   mavloc::cli::RegisterSimulate(app, &exit_code);
   mavloc::cli::RegisterRun(app, &exit_code);
   mavloc::cli::RegisterEval(app, &exit_code);
+  mavloc::cli::RegisterConvert(app, &exit_code);
   mavloc::cli::RegisterCompare(app, &exit_code);
   mavloc::cli::RegisterRepro(app, &exit_code);
   mavloc::cli::RegisterObservability(app, &exit_code);
   mavloc::cli::RegisterDetectTags(app, &exit_code);
   mavloc::cli::RegisterObstacles(app, &exit_code);
   mavloc::cli::RegisterImportAprilgrid(app, &exit_code);
+  mavloc::cli::RegisterFigures(app, &exit_code);
+  mavloc::cli::RegisterImportTagslam(app, &exit_code);
+  mavloc::cli::RegisterLog(app, &exit_code);
   // An unknown first word is named in the message (CLI11 would only say a command is required).
   const auto subcommands = app.get_subcommands({});
   const bool known_command =

@@ -2,6 +2,7 @@
 
 #include <Eigen/SVD>
 #include <cmath>
+#include <limits>
 
 #include "core/rotation.h"
 
@@ -62,6 +63,9 @@ std::optional<Similarity> AlignPoints(const std::vector<Eigen::Vector3d>& p_est,
   } else {
     // Umeyama (1991), eq. 38-42.
     Eigen::JacobiSVD<Eigen::Matrix3d> svd(sigma, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    // evo: "Degenerate covariance rank, Umeyama alignment is not possible".
+    const double eps = std::numeric_limits<double>::epsilon();
+    if ((svd.singularValues().array() > eps).count() < 2) return std::nullopt;
     Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
     if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) D(2, 2) = -1.0;
     S.R = svd.matrixU() * D * svd.matrixV().transpose();
@@ -71,6 +75,40 @@ std::optional<Similarity> AlignPoints(const std::vector<Eigen::Vector3d>& p_est,
   }
   S.t = mu_g - S.scale * S.R * mu_e;
   return S;
+}
+
+std::optional<Similarity> AlignFirstPose(const Pose& T_W_B_est0, const Pose& T_W_B_gt0,
+                                         AlignmentMode mode) {
+  Similarity S;
+  switch (mode) {
+    case AlignmentMode::kNone:
+      return S;
+    case AlignmentMode::kSim3:
+      return std::nullopt;
+    case AlignmentMode::kSe3:
+      S.R = T_W_B_gt0.R() * T_W_B_est0.R().transpose();
+      break;
+    case AlignmentMode::kPosYaw: {
+      // rpg get_best_yaw(C) with C = R_est0 R_gt0^T: theta = atan2(C01 - C10, C00 + C11).
+      const Eigen::Matrix3d C = T_W_B_est0.R() * T_W_B_gt0.R().transpose();
+      S.R = Rz(std::atan2(C(0, 1) - C(1, 0), C(0, 0) + C(1, 1)));
+      break;
+    }
+  }
+  S.t = T_W_B_gt0.p - S.R * T_W_B_est0.p;
+  return S;
+}
+
+Similarity AlignOrigin(const Pose& T_W_B_est0, const Pose& T_W_B_gt0) {
+  const Pose T = T_W_B_gt0 * T_W_B_est0.Inverse();
+  Similarity S;
+  S.R = T.R();
+  S.t = T.p;
+  return S;
+}
+
+Pose ApplySimilarity(const Similarity& S, const Pose& T_W_B) {
+  return Pose(Eigen::Quaterniond(S.R) * T_W_B.q, S.Apply(T_W_B.p));
 }
 
 }  // namespace mavloc

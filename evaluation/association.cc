@@ -73,6 +73,89 @@ std::vector<PosePair> AssociatePoses(const std::vector<StampedPose>& estimate,
   return pairs;
 }
 
+namespace {
+
+// Index of the nearest stamp of sorted `stamps` to t (first one on a tie), starting the search at
+// *cursor, which only moves forward (t non-decreasing across calls): numpy.argmin(|stamps - t|).
+size_t NearestForward(const std::vector<TimeNs>& stamps, TimeNs t, size_t* cursor) {
+  size_t k = *cursor;
+  // First index with stamps[k] >= t.
+  while (k < stamps.size() && stamps[k] < t) ++k;
+  *cursor = k == 0 ? 0 : k - 1;  // the next query (>= t) can still need k - 1
+  if (k == stamps.size()) {
+    // All stamps below t: the last one, or the first of a run of equal last stamps.
+    size_t j = stamps.size() - 1;
+    while (j > 0 && stamps[j - 1] == stamps[j]) --j;
+    return j;
+  }
+  if (k == 0) return 0;
+  // Candidates: k - 1 (below, the first of its equal run) and k (at or above).
+  size_t below = k - 1;
+  while (below > 0 && stamps[below - 1] == stamps[below]) --below;
+  return t - stamps[below] <= stamps[k] - t ? below : k;
+}
+
+}  // namespace
+
+AssociationResult AssociateTrajectories(const std::vector<StampedPose>& estimate,
+                                        const std::vector<StampedPose>& truth,
+                                        const AssociationOptions& options) {
+  AssociationResult out;
+  if (estimate.empty() || truth.empty()) return out;
+  const TimeNs offset_ns = SecondsToNs(options.time_offset_s);
+  const TimeNs max_dt_ns = SecondsToNs(options.max_dt_s);
+  std::vector<TimeNs> est_t(estimate.size()), gt_t(truth.size());
+  for (size_t i = 0; i < estimate.size(); ++i) est_t[i] = estimate[i].t_ns + offset_ns;
+  for (size_t i = 0; i < truth.size(); ++i) gt_t[i] = truth[i].t_ns;
+  const bool make_pairs = options.make_pairs || options.mode != AssociationMode::kNearest;
+  const auto add = [&](size_t ie, size_t ig, const Pose& T_W_B_gt) {
+    if (make_pairs) out.pairs.push_back({est_t[ie], estimate[ie].T_W_B, T_W_B_gt});
+    out.estimate_index.push_back(ie);
+    out.truth_index.push_back(ig);
+  };
+  const size_t reserve = std::min(estimate.size(), truth.size());
+  if (make_pairs) out.pairs.reserve(reserve);
+  out.estimate_index.reserve(reserve);
+  out.truth_index.reserve(reserve);
+
+  if (options.mode == AssociationMode::kNearest) {
+    // evo: snd_longer = len(est) > len(ref); the shorter one is walked.
+    const bool walk_truth = estimate.size() > truth.size();
+    const auto& walked = walk_truth ? gt_t : est_t;
+    const auto& searched = walk_truth ? est_t : gt_t;
+    size_t cursor = 0;
+    for (size_t w = 0; w < walked.size(); ++w) {
+      const size_t s = NearestForward(searched, walked[w], &cursor);
+      const TimeNs dt = walked[w] > searched[s] ? walked[w] - searched[s] : searched[s] - walked[w];
+      if (dt > max_dt_ns) continue;
+      const size_t ie = walk_truth ? s : w, ig = walk_truth ? w : s;
+      add(ie, ig, truth[ig].T_W_B);
+    }
+    return out;
+  }
+
+  // Interpolation: bracket each estimate stamp with a forward-moving index.
+  size_t k = 0;  // first truth stamp >= t
+  for (size_t ie = 0; ie < est_t.size(); ++ie) {
+    const TimeNs t = est_t[ie];
+    while (k < gt_t.size() && gt_t[k] < t) ++k;
+    if (k == gt_t.size()) break;  // after the last truth stamp
+    if (gt_t[k] == t) {
+      add(ie, k, truth[k].T_W_B);
+      continue;
+    }
+    if (k == 0) continue;  // before the first truth stamp
+    const size_t i = k - 1;
+    const TimeNs gap_low = t - gt_t[i], gap_high = gt_t[k] - t;
+    if (std::min(gap_low, gap_high) > max_dt_ns) continue;
+    const double a = static_cast<double>(gap_low) / static_cast<double>(gt_t[k] - gt_t[i]);
+    const Pose& A = truth[i].T_W_B;
+    const Pose& B = truth[k].T_W_B;
+    add(ie, i, Pose(A.q.slerp(a, B.q).normalized(), (1.0 - a) * A.p + a * B.p));
+  }
+  return out;
+}
+
 QuantityTable TruthQuantitiesAt(const QuantityTable& truth, const std::vector<TimeNs>& t_ns,
                                 double max_dt_s, AssociationMode mode) {
   QuantityTable out(truth.names, truth.units);

@@ -2,11 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "datasets/io/tum_io.h"
+#include "evaluation/comparison.h"
 
 namespace mavloc {
 
@@ -22,6 +25,31 @@ void WriteReportFolder(const std::string& folder, const ReportFiles& files) {
   for (const auto& [name, contents] : files.extra) WriteFileAtomically(path(name), contents);
   WriteFileAtomically(path("report.json"), files.json.dump(2) + "\n");
   WriteFileAtomically(path("report.md"), files.markdown);
+}
+
+std::map<std::string, std::string> ComparisonTrajectoryFiles(
+    const Dataset& dataset, const std::vector<EstimatorEvaluation>& evaluations) {
+  std::map<std::string, std::string> files;
+  if (!dataset.ground_truth.empty()) {
+    std::vector<StampedPose> truth;
+    truth.reserve(dataset.ground_truth.size());
+    for (const auto& state : dataset.ground_truth) truth.push_back({state.t_ns, state.T_W_B});
+    files["truth.tum"] = TumTrajectoryText(truth);
+  }
+  for (const auto& evaluation : evaluations) {
+    if (!evaluation.ran || evaluation.estimate.poses.empty()) continue;
+    const Similarity S = evaluation.ate ? evaluation.ate->alignment : Similarity{};
+    std::vector<StampedPose> poses;
+    poses.reserve(evaluation.estimate.poses.size());
+    for (const auto& pose : evaluation.estimate.poses)
+      poses.push_back(
+          {pose.t_ns, Pose(Eigen::Matrix3d(S.R * pose.T_W_B.R()), S.Apply(pose.T_W_B.p))});
+    std::string name = evaluation.estimator;
+    for (char& c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '.') c = '-';
+    files["estimate_" + name + ".tum"] = TumTrajectoryText(poses);
+  }
+  return files;
 }
 
 std::string MarkdownTable(const std::vector<std::string>& header,

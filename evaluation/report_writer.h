@@ -5,8 +5,12 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 namespace mavloc {
+
+struct Dataset;
+struct EstimatorEvaluation;
 
 struct ReportFiles {
   std::string markdown;                      // report.md
@@ -16,6 +20,13 @@ struct ReportFiles {
 
 // Throws InputError when the folder cannot be created or written.
 void WriteReportFolder(const std::string& folder, const ReportFiles& files);
+
+// The trajectories of a comparison for its figures (evaluation/report_figures.h), as file name ->
+// TUM text: truth.tum (the dataset's ground truth T_W_B) and estimate_<estimator>.tum for every
+// estimator that returned poses, mapped by its ATE alignment S (p -> s R p + t, R_W_B -> R R_W_B)
+// so that they overlay the truth as the ATE compares them. Estimator names are made file-safe.
+std::map<std::string, std::string> ComparisonTrajectoryFiles(
+    const Dataset& dataset, const std::vector<EstimatorEvaluation>& evaluations);
 
 // A Markdown table from a header row and rows of cells.
 std::string MarkdownTable(const std::vector<std::string>& header,

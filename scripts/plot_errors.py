@@ -3,6 +3,9 @@
 per estimator. Reads <report>/errors.csv (written by `mavloc compare`) and writes
 <report>/errors.png.
 
+`mavloc compare` already draws every quantity into errors_over_time.png (and report.html) with
+scripts/figures/report_figures.py; this script draws a chosen subset of quantities.
+
 Usage: /usr/bin/python3 scripts/plot_errors.py REPORT_DIR [--quantities x,y,z,roll,pitch,yaw]
 (Debian's python3-matplotlib, installed by scripts/setup; call /usr/bin/python3 explicitly.)
 """

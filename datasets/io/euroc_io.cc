@@ -482,9 +482,8 @@ Dataset ReadEurocDataset(const std::string& root, const EurocReadOptions& option
   Dataset d;
   d.root = fs::weakly_canonical(root).string();
   d.name = fs::path(d.root).filename().string();
-  if (!fs::is_directory(mav0 / kImu))
-    throw InputError((mav0 / kImu).string(), 0, "", "IMU folder does not exist");
-  d.imu = ReadImu(mav0 / kImu);
+  // No imu0 folder: a log without an IMU (e.g. TagSLAM's tag logs); IMU estimators say so.
+  if (fs::is_directory(mav0 / kImu)) d.imu = ReadImu(mav0 / kImu);
   if (options.load_cameras) {
     std::vector<fs::path> camera_folders;
     for (const auto& entry : fs::directory_iterator(mav0)) {
@@ -522,7 +521,7 @@ void WriteEurocDataset(const Dataset& d, const std::string& root) {
   std::error_code error;
   fs::create_directories(mav0, error);
   if (error) throw InputError(root, 0, "", "cannot create folder: " + error.message());
-  WriteImu(d.imu, mav0 / kImu);
+  if (!d.imu.samples.empty()) WriteImu(d.imu, mav0 / kImu);
   for (const auto& camera : d.cameras) WriteCamera(camera, mav0 / camera.name);
   if (!d.ground_truth.empty()) WriteGroundTruth(d.ground_truth, mav0 / kGroundTruth);
   WriteExtensions(d, mav0);
@@ -589,18 +588,12 @@ std::vector<ImuSample> ReadImuCsv(const std::string& path) {
   return samples;
 }
 
-std::vector<GroundTruthState> ReadTrajectoryFile(const std::string& path) {
-  // EuRoC CSV when the first data line has commas, TUM otherwise.
-  const TextTable probe = ReadTextTable(path, Separator::kComma);
-  if (probe.rows.front().fields.size() >= 8) return ReadGroundTruthCsv(path);
-  std::vector<GroundTruthState> states;
-  for (const auto& pose : ReadTumTrajectory(path)) {
-    GroundTruthState s;
-    s.t_ns = pose.t_ns;
-    s.T_W_B = pose.T_W_B;
-    states.push_back(s);
-  }
-  return states;
+std::vector<GroundTruthState> ReadTrajectoryFile(const std::string& path,
+                                                 TrajectoryReadReport* report) {
+  // Any format ReadTrajectory detects (TUM, EuRoC/ASL, KITTI); repeated stamps keep the first row.
+  LoadedTrajectory loaded = ReadTrajectory(path);
+  if (report != nullptr) *report = loaded.report;
+  return std::move(loaded.states);
 }
 
 }  // namespace mavloc

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/dataset.h"
+#include "datasets/io/trajectory_formats/trajectory_format.h"
 
 namespace mavloc {
 
@@ -42,8 +43,11 @@ std::vector<ImuSample> ReadImuCsv(const std::string& path);
 // WriteEurocDataset writes it; `mavloc detect-tags` writes its detections with it too.
 std::string TagsCsv(const std::vector<TagObservation>& tags);
 
-// Reads a ground-truth trajectory from a file in either format: EuRoC state_groundtruth CSV
-// (timestamp [ns], p, q (w,x,y,z), [v, b_w, b_a]) or TUM (t [s] tx ty tz qx qy qz qw).
-std::vector<GroundTruthState> ReadTrajectoryFile(const std::string& path);
+// Reads a trajectory file in any format ReadTrajectory detects from its content
+// (trajectory_formats/trajectory_format.h: TUM, EuRoC state_groundtruth CSV with or without v,
+// b_w, b_a, ASL CSVs by header names, KITTI): repeated stamps keep the first row (counted in
+// *report when given).
+std::vector<GroundTruthState> ReadTrajectoryFile(const std::string& path,
+                                                 TrajectoryReadReport* report = nullptr);
 
 }  // namespace mavloc

@@ -242,7 +242,8 @@ void AppendCsv(const TableResult& table, std::string* csv) {
   for (const auto& run : table.runs) {
     for (const auto& q : kQuantities) {
       const QuantityResult r = run.quantities.count(q) ? run.quantities.at(q) : QuantityResult{};
-      *csv += fmt::format("{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", table.name,
+      // The table name holds a comma ("simulated, no bias"): quoted as RFC 4180 says.
+      *csv += fmt::format("\"{}\",{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", table.name,
                           run.seed, run.converged ? 1 : 0, q, Unit(q), r.final_error * Scale(q),
                           r.mae_after * Scale(q), r.mae_late * Scale(q), r.mae_all * Scale(q),
                           r.convergence_s);

@@ -166,12 +166,20 @@ struct Table {
   nlohmann::json json = nlohmann::json::array();
   std::string notes;
 
+  // RFC 4180: a cell holding a comma or a quote ("IMU attitude error [deg], all marker(s)") is
+  // quoted, its quotes doubled.
+  static std::string CsvCell(const std::string& cell) {
+    if (cell.find_first_of(",\"\n") == std::string::npos) return cell;
+    std::string quoted = "\"";
+    for (const char c : cell) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return quoted + "\"";
+  }
   std::string Csv() const {
     std::ostringstream out;
-    for (size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << header[i];
+    for (size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << CsvCell(header[i]);
     out << "\n";
     for (const auto& row : rows) {
-      for (size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << row[i];
+      for (size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << CsvCell(row[i]);
       out << "\n";
     }
     return out.str();

@@ -184,8 +184,15 @@ TEST_F(CliBadFiles, MalformedRow) {
 TEST_F(CliBadFiles, NonMonotonicAndDuplicateTimestamps) {
   Write("est.txt", "2.0 0 0 0 0 0 0 1\n1.0 1 0 0 0 0 0 1\n");
   ExpectCleanFailure(Eval("est.txt"), "est.txt:2: field 'timestamp'");
-  Write("dup.txt", "1.0 0 0 0 0 0 0 1\n1.0 1 0 0 0 0 0 1\n");
-  ExpectCleanFailure(Eval("dup.txt"), "duplicate timestamp");
+  // Issue 13: a repeated stamp keeps the first row and is reported, as evo and TUM's tools do.
+  Write("dup.txt",
+        "1.0 0 0 0 0 0 0 1\n1.0 1 0 0 0 0 0 1\n2.0 1 0 0 0 0 0 1\n3.0 2 0 0 0 0 0 1\n4.0 3 1 0 0 0 "
+        "0 1\n");
+  const auto dup =
+      RunCommand(Cli("eval --align none --gt " + dir_ + "/gt.txt --est " + dir_ + "/dup.txt"));
+  EXPECT_EQ(dup.exit_code, 0) << dup.output;
+  EXPECT_NE(dup.output.find("dup.txt: 1 row with a repeated timestamp dropped"), std::string::npos)
+      << dup.output;
 }
 
 TEST_F(CliBadFiles, NanInfAndEmpty) {

@@ -1,0 +1,90 @@
+#!/usr/bin/python3
+"""The yardstick for benchmarks/trajectory_eval_benchmark.cc (BM_AteCore): a straightforward numpy
+implementation of the same computation on the same analytic trajectories -- association of each
+estimate stamp with the nearest truth stamp by np.searchsorted (evo's rule: the earlier stamp on a
+tie, |dt| <= 10 ms), Umeyama alignment (se3, or posyaw: yaw about z only) and the ATE RMSE.
+
+Usage: /usr/bin/python3 benchmarks/numpy_ate_yardstick.py [se3|posyaw] [repeats]
+Peak memory: /usr/bin/time -v /usr/bin/python3 benchmarks/numpy_ate_yardstick.py se3
+Needs Debian's python3-numpy.
+"""
+import sys
+import time
+
+import numpy as np
+
+N_TRUTH = 1_000_000
+N_EST = 500_000
+
+
+def truth_positions(t):
+    return np.stack([20.0 * np.cos(0.05 * t), 15.0 * np.sin(0.07 * t), 2.0 + np.sin(0.3 * t)], axis=1)
+
+
+def make_data():
+    t_gt_ns = np.arange(N_TRUTH, dtype=np.int64) * 1_000_000
+    p_gt = truth_positions(t_gt_ns * 1e-9)
+    t_est_ns = np.arange(N_EST, dtype=np.int64) * 2_000_000 + 300_000
+    t = t_est_ns * 1e-9
+    wobble = np.stack([0.01 * np.sin(3 * t), 0.01 * np.cos(2 * t), 0.005 * np.sin(5 * t)], axis=1)
+    c, s = np.cos(0.01), np.sin(0.01)
+    r_world = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    p_est = (truth_positions(t) + wobble) @ r_world.T + np.array([1.0, 2.0, 0.5])
+    return t_gt_ns, p_gt, t_est_ns, p_est
+
+
+def associate(t_gt_ns, t_est_ns, max_dt_ns=10_000_000):
+    k = np.searchsorted(t_gt_ns, t_est_ns)  # first truth stamp >= t
+    lo = np.clip(k - 1, 0, len(t_gt_ns) - 1)
+    hi = np.clip(k, 0, len(t_gt_ns) - 1)
+    d_lo = np.abs(t_est_ns - t_gt_ns[lo])
+    d_hi = np.abs(t_gt_ns[hi] - t_est_ns)
+    nearest = np.where(d_lo <= d_hi, lo, hi)
+    dt = np.minimum(d_lo, d_hi)
+    keep = dt <= max_dt_ns
+    return np.nonzero(keep)[0], nearest[keep]
+
+
+def umeyama(x, y, mode):
+    """R, t with y ~ R x + t (x estimate, y truth), Umeyama 1991 (evo's umeyama_alignment)."""
+    mu_x, mu_y = x.mean(axis=0), y.mean(axis=0)
+    xc, yc = x - mu_x, y - mu_y
+    cov = yc.T @ xc / len(x)
+    if mode == "posyaw":
+        theta = np.arctan2(cov[1, 0] - cov[0, 1], cov[0, 0] + cov[1, 1])
+        c, s = np.cos(theta), np.sin(theta)
+        r = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    else:
+        u, _, vt = np.linalg.svd(cov)
+        d = np.eye(3)
+        if np.linalg.det(u) * np.linalg.det(vt) < 0:
+            d[2, 2] = -1
+        r = u @ d @ vt
+    return r, mu_y - r @ mu_x
+
+
+def ate(t_gt_ns, p_gt, t_est_ns, p_est, mode):
+    i_est, i_gt = associate(t_gt_ns, t_est_ns)
+    x, y = p_est[i_est], p_gt[i_gt]
+    r, t = umeyama(x, y, mode)
+    e = np.linalg.norm(x @ r.T + t - y, axis=1)
+    return np.sqrt(np.mean(e * e)), len(e)
+
+
+def main():
+    mode = sys.argv[1] if len(sys.argv) > 1 else "se3"
+    repeats = int(sys.argv[2]) if len(sys.argv) > 2 else 5
+    data = make_data()
+    wall, cpu = [], []
+    for _ in range(repeats):
+        start, start_cpu = time.perf_counter(), time.process_time()
+        rmse, pairs = ate(*data, mode)
+        wall.append(time.perf_counter() - start)
+        cpu.append(time.process_time() - start_cpu)
+    print(f"numpy {np.__version__} {mode}: {pairs} pairs, ATE rmse {rmse:.6f} m, "
+          f"wall median {1e3 * np.median(wall):.1f} ms, CPU median {1e3 * np.median(cpu):.1f} ms "
+          f"over {repeats} runs")
+
+
+if __name__ == "__main__":
+    main()

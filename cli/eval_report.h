@@ -1,0 +1,67 @@
+// The report of `mavloc eval` (issue 13, items 4 and 7): one table estimates x metrics (mean and
+// sample standard deviation over the runs of an estimator), the protocol that reproduces every
+// number, and the data files the figure writer (evaluation/report_figures.h) reads:
+//   eval.md, eval.tex, eval.json,
+//   truth.tum                         the ground truth as read (sorted, repeated stamps dropped),
+//   estimate_<label>[_run<k>].tum     each estimate after alignment, in the truth's frame (stamps
+//                                     with the time offset applied),
+//   errors_over_time.csv              label,run,t_s,translation_error_m,rotation_error_deg
+//                                     (APE per associated pair; t_s from the truth's first stamp),
+//   relative_errors.csv               label,run,length_m,translation_error_pct,
+//                                     rotation_error_deg_per_m (one row per sub-trajectory).
+// run is k = 1..n for the runs of a folder, 0 for a single file.
+#pragma once
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "datasets/io/trajectory_formats/trajectory_format.h"
+#include "evaluation/trajectory_evaluation.h"
+
+namespace mavloc::cli {
+
+struct EvalRun {
+  int run = 0;  // 1..n in a runs folder, 0 for a single file
+  std::string file;
+  TrajectoryReadReport input;
+  bool by_index = false;  // KITTI without times: associated by index (evo)
+  TrajectoryEvaluation evaluation;
+  std::vector<StampedPose> aligned_estimate;  // in the truth's frame, time offset applied
+};
+
+struct EvalEstimate {
+  std::string label;
+  std::string source;  // the --est argument (file or folder)
+  bool is_folder = false;
+  std::vector<EvalRun> runs;
+};
+
+struct EvalReport {
+  TrajectoryReadReport truth;
+  std::vector<StampedPose> truth_poses;
+  EvaluationProtocol protocol;  // as resolved (relative lengths filled in)
+  bool relative_lengths_given = false;
+  std::vector<EvalEstimate> estimates;
+};
+
+// The metrics of the table, per run (name, unit, value); the same list for every run.
+struct MetricValue {
+  std::string key;    // json key, e.g. "ape_translation_rmse_m"
+  std::string title;  // table header, e.g. "APE trans. RMSE [m]"
+  double value = 0.0;
+};
+std::vector<MetricValue> RunMetrics(const EvalRun& run, const EvaluationProtocol& protocol);
+
+std::string EvalMarkdown(const EvalReport& report);
+std::string EvalLatex(const EvalReport& report);
+nlohmann::json EvalJson(const EvalReport& report);
+// The table alone (for the terminal).
+std::string EvalSummaryTable(const EvalReport& report);
+// Every file of the report folder: name -> contents.
+std::map<std::string, std::string> EvalReportFiles(const EvalReport& report);
+// estimate_<label>[_run<k>].tum
+std::string EstimateFileName(const EvalEstimate& estimate, const EvalRun& run);
+
+}  // namespace mavloc::cli

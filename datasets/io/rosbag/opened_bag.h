@@ -1,0 +1,72 @@
+// A ROS1 bag opened for reading with rosbag::Bag, and the message loop every reader shares.
+// A whole-file bzip2 bag is first decompressed (streaming) into a temporary file in the system's
+// temporary folder, removed when the OpenedBag is destroyed. rosbag_storage's exceptions become
+// InputErrors naming the file, the topic and the message index, or the byte where a truncated or
+// corrupt bag stops (from ScanBagRecords, bag_records.h).
+#pragma once
+
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace mavloc::ros1 {
+
+class OpenedBag {
+ public:
+  explicit OpenedBag(const std::string& path);
+  ~OpenedBag();
+  OpenedBag(const OpenedBag&) = delete;
+  OpenedBag& operator=(const OpenedBag&) = delete;
+
+  rosbag::Bag& bag() { return bag_; }
+  const std::string& path() const { return path_; }                // as the user gave it
+  const std::string& opened_path() const { return opened_path_; }  // the plain bag read
+  bool whole_file_bzip2() const { return !temporary_path_.empty(); }
+
+  // The datatype of `topic` ("sensor_msgs/Imu"); InputError when the bag has no such topic (the
+  // message lists the topics it has) or its connections disagree on the type.
+  std::string TopicType(const std::string& topic);
+  // The MD5 sum and definition the connection header of `topic` holds.
+  std::string TopicMd5(const std::string& topic);
+  std::string TopicDefinition(const std::string& topic);
+
+  // Calls visit(message, index) for every message on `topic` in bag-time order (index 0, 1, ...).
+  // Exceptions from rosbag or ros::serialization, and InputErrors without a location, are rethrown
+  // as InputError "<file>: topic <topic>, message <index>: <what>". Progress goes to stderr
+  // (core/progress.h) every 10% of long topics.
+  void ForEachMessage(const std::string& topic,
+                      const std::function<void(const rosbag::MessageInstance&, uint64_t)>& visit);
+
+  // "<file>: topic <topic>, message <index>: <message>" as an InputError.
+  [[noreturn]] void Fail(const std::string& topic, uint64_t index,
+                         const std::string& message) const;
+
+ private:
+  std::vector<const rosbag::ConnectionInfo*> Connections(const std::string& topic);
+
+  std::string path_;
+  std::string opened_path_;
+  std::string temporary_path_;
+  rosbag::Bag bag_;
+};
+
+// Deserializes `message` as M after checking its MD5 sum against M's; `what` names the expected
+// type in the error.
+template <class M>
+boost::shared_ptr<M> Instantiate(const OpenedBag& bag, const std::string& topic, uint64_t index,
+                                 const rosbag::MessageInstance& message) {
+  boost::shared_ptr<M> decoded = message.instantiate<M>();
+  if (!decoded) {
+    bag.Fail(topic, index,
+             "message type " + message.getDataType() + " (md5 " + message.getMD5Sum() +
+                 ") does not match " + ros::message_traits::DataType<M>::value() + " (md5 " +
+                 ros::message_traits::MD5Sum<M>::value() + ")");
+  }
+  return decoded;
+}
+
+}  // namespace mavloc::ros1

@@ -1,0 +1,40 @@
+// sensor_msgs/Imu -> ImuSample (rosbag_reader.h).
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "core/errors.h"
+#include "datasets/io/rosbag/opened_bag.h"
+#include "datasets/io/rosbag/ros_messages.h"
+#include "datasets/io/rosbag/rosbag_reader.h"
+
+namespace mavloc {
+
+std::vector<ImuSample> ReadRosbagImu(const std::string& path, const std::string& topic) {
+  ros1::OpenedBag bag(path);
+  const std::string type = bag.TopicType(topic);
+  if (type != "sensor_msgs/Imu") {
+    throw InputError(path, 0, "", fmt::format("topic {} is {}, not sensor_msgs/Imu", topic, type));
+  }
+  std::vector<ImuSample> samples;
+  bag.ForEachMessage(topic, [&](const rosbag::MessageInstance& message, uint64_t index) {
+    const auto imu = ros1::Instantiate<ros1::ImuMsg>(bag, topic, index, message);
+    ImuSample sample;
+    sample.t_ns = ros1::ToNs(imu->header.stamp);
+    sample.gyro_rad_s = {imu->angular_velocity.x, imu->angular_velocity.y, imu->angular_velocity.z};
+    sample.accel_m_s2 = {imu->linear_acceleration.x, imu->linear_acceleration.y,
+                         imu->linear_acceleration.z};
+    if (!sample.gyro_rad_s.allFinite() || !sample.accel_m_s2.allFinite()) {
+      bag.Fail(topic, index, "angular_velocity or linear_acceleration is not finite");
+    }
+    if (!samples.empty() && sample.t_ns <= samples.back().t_ns) {
+      bag.Fail(topic, index,
+               fmt::format("header.stamp {} ns does not increase (previous {} ns)", sample.t_ns,
+                           samples.back().t_ns));
+    }
+    samples.push_back(sample);
+  });
+  return samples;
+}
+
+}  // namespace mavloc

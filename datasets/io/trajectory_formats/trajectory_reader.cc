@@ -1,0 +1,323 @@
+// ReadTrajectory (trajectory_format.h): text -> layout -> rows -> stamps ordered and unique.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <numeric>
+
+#include "core/errors.h"
+#include "datasets/io/trajectory_formats/kitti_poses.h"
+#include "datasets/io/trajectory_formats/trajectory_columns.h"
+#include "datasets/io/trajectory_formats/trajectory_format.h"
+
+#include "datasets/io/log_reader.h"
+#include "datasets/io/trajectory_formats/trajectory_stamps.h"
+#include "datasets/io/trajectory_formats/trajectory_text.h"
+
+namespace mavloc {
+
+namespace {
+
+struct RowState {
+  GroundTruthState state;
+  long line = 0;
+};
+
+double Number(const std::string& path, const TrajectoryRow& row, const PoseColumnLayout& layout,
+              int column) {
+  const std::string& text = row.fields[column];
+  const std::string field = layout.Name(column);
+  if (text.empty()) throw InputError(path, row.line, field, "empty value");
+  char* end = nullptr;
+  errno = 0;
+  const double value = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != '\0')
+    throw InputError(path, row.line, field, "'" + text + "' is not a number");
+  if (!std::isfinite(value) || errno == ERANGE)
+    throw InputError(path, row.line, field, "'" + text + "' is not finite");
+  return value;
+}
+
+Eigen::Vector3d Vector(const std::string& path, const TrajectoryRow& row,
+                       const PoseColumnLayout& layout, const std::array<int, 3>& columns) {
+  return {Number(path, row, layout, columns[0]), Number(path, row, layout, columns[1]),
+          Number(path, row, layout, columns[2])};
+}
+
+PoseColumnLayout ChooseLayout(const TrajectoryText& text, TrajectoryFormat format, bool forced) {
+  const auto by_header = LayoutFromHeader(text);
+  const size_t fields = text.rows.front().fields.size();
+  if (!forced && by_header) return *by_header;
+  switch (format) {
+    case TrajectoryFormat::kTum:
+      if (fields != 8 && fields != 20)
+        throw InputError(text.path, text.rows.front().line,
+                         fields < 8 ? TumLayout(8).Name(fields) : "",
+                         fmt::format("expected 8 fields (timestamp tx ty tz qx qy qz qw), or 20 "
+                                     "(ov_eval: with covariance), found {}",
+                                     fields));
+      return TumLayout(fields);
+    case TrajectoryFormat::kEuroc:
+      if (fields < 8)
+        throw InputError(
+            text.path, text.rows.front().line, EurocLayout(8).Name(fields),
+            fmt::format("expected at least 8 fields (EuRoC: t_ns, p, q_wxyz), found {}", fields));
+      return EurocLayout(fields);
+    case TrajectoryFormat::kAsl:
+      if (!by_header)
+        throw InputError(text.path, 0, "",
+                         text.header.empty()
+                             ? "no header line names the columns (asl needs one, e.g. "
+                               "'#timestamp,x,y,z,qw,qx,qy,qz')"
+                             : "the header '" + text.header_line +
+                                   "' does not name a timestamp, a position (x,y,z) and a "
+                                   "quaternion (qw,qx,qy,qz)");
+      return *by_header;
+    default:
+      break;
+  }
+  throw InputError(text.path, 0, "",
+                   "internal: no layout for format " + TrajectoryFormatName(format));
+}
+
+std::vector<RowState> ParsePoseRows(const TrajectoryText& text, const PoseColumnLayout& layout,
+                                    TrajectoryReadReport* report) {
+  std::vector<RowState> rows;
+  rows.reserve(text.rows.size());
+  for (const TrajectoryRow& row : text.rows) {
+    const size_t n = row.fields.size();
+    if (layout.exact_fields > 0 && n != layout.exact_fields)
+      throw InputError(
+          text.path, row.line, n < layout.exact_fields ? layout.Name(n) : "",
+          fmt::format("expected {} fields{}, found {}", layout.exact_fields,
+                      layout.exact_fields == 8 ? " (timestamp tx ty tz qx qy qz qw)" : "", n));
+    if (n < layout.min_fields)
+      throw InputError(text.path, row.line, layout.Name(n),
+                       fmt::format("expected {} fields, found {}", layout.min_fields, n));
+    RowState r;
+    r.line = row.line;
+    const std::string& stamp = row.fields[layout.t];
+    const bool ok = layout.unit == StampUnit::kSeconds ? ParseSecondsAsNs(stamp, &r.state.t_ns)
+                                                       : ParseNanoseconds(stamp, &r.state.t_ns);
+    if (!ok)
+      throw InputError(text.path, row.line, layout.Name(layout.t),
+                       fmt::format("'{}' is not a non-negative time in {}", stamp,
+                                   layout.unit == StampUnit::kSeconds ? "seconds" : "nanoseconds"));
+    r.state.T_W_B.p = Vector(text.path, row, layout, layout.p);
+    const Eigen::Quaterniond q(Number(text.path, row, layout, layout.q_wxyz[0]),
+                               Number(text.path, row, layout, layout.q_wxyz[1]),
+                               Number(text.path, row, layout, layout.q_wxyz[2]),
+                               Number(text.path, row, layout, layout.q_wxyz[3]));
+    const double norm_error = std::abs(q.norm() - 1.0);
+    if (!(norm_error <= kQuaternionNormTolerance))
+      throw InputError(text.path, row.line, layout.Name(layout.q_wxyz[0]),
+                       fmt::format("quaternion is not unit length (|q| = {:.6g}; accepted and "
+                                   "normalised within 1 +- {})",
+                                   q.norm(), kQuaternionNormTolerance));
+    if (norm_error > 1e-6) ++report->quaternions_normalised;
+    report->max_quaternion_norm_error = std::max(report->max_quaternion_norm_error, norm_error);
+    r.state.T_W_B.q = q.normalized();
+    if (layout.HasVelocity()) r.state.v_W = Vector(text.path, row, layout, layout.v);
+    if (layout.HasBiases()) {
+      r.state.b_g = Vector(text.path, row, layout, layout.b_g);
+      r.state.b_a = Vector(text.path, row, layout, layout.b_a);
+    }
+    rows.push_back(r);
+  }
+  report->has_velocity = layout.HasVelocity();
+  report->has_biases = layout.HasBiases();
+  return rows;
+}
+
+// Rows in time order with unique stamps (rules in trajectory_format.h). stamp_path / stamp_field
+// name where the stamps came from (the times file for KITTI).
+std::vector<GroundTruthState> OrderRows(std::vector<RowState> rows, const std::string& stamp_path,
+                                        const std::string& stamp_field,
+                                        const TrajectoryReadOptions& options,
+                                        TrajectoryReadReport* report) {
+  if (options.sort) {
+    report->sorted = true;
+    TimeNs latest = 0;
+    bool first = true;
+    for (const auto& r : rows) {
+      if (!first && r.state.t_ns < latest) {
+        ++report->rows_out_of_order;
+        if (report->first_out_of_order_line == 0) report->first_out_of_order_line = r.line;
+      }
+      latest = first ? r.state.t_ns : std::max(latest, r.state.t_ns);
+      first = false;
+    }
+    std::stable_sort(rows.begin(), rows.end(), [](const RowState& a, const RowState& b) {
+      return a.state.t_ns < b.state.t_ns;
+    });
+  }
+  std::vector<GroundTruthState> states;
+  states.reserve(rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const RowState& r = rows[i];
+    if (!states.empty()) {
+      const TimeNs previous = states.back().t_ns;
+      if (r.state.t_ns < previous)
+        throw InputError(stamp_path, r.line, stamp_field,
+                         fmt::format("timestamp {} is earlier than the previous row's ({}); "
+                                     "--sort sorts the rows",
+                                     r.state.t_ns, previous));
+      if (r.state.t_ns == previous) {
+        if (options.refuse_duplicates)
+          throw InputError(stamp_path, r.line, stamp_field,
+                           "duplicate timestamp " + std::to_string(r.state.t_ns));
+        ++report->duplicates_dropped;
+        if (report->first_duplicate_line == 0 || r.line < report->first_duplicate_line)
+          report->first_duplicate_line = r.line;
+        continue;
+      }
+    }
+    states.push_back(r.state);
+  }
+  return states;
+}
+
+}  // namespace
+
+// A trajectory topic of a log: full poses only (a topic carrying only attitude or only position
+// is for `compare --reference`, which compares per quantity).
+LoadedTrajectory ReadLogTopicTrajectory(const LogTopicSpec& spec, const std::string& path,
+                                        const TrajectoryReadOptions& options) {
+  if (options.format != TrajectoryFormat::kAuto || !options.times_path.empty())
+    throw InputError(path, 0, "",
+                     "a log topic has its own format and stamps: drop --gt-format/--est-format "
+                     "and the times file for it");
+  const LogTrajectory trajectory = ReadLogTrajectory(spec);
+  if (!trajectory.has_position || !trajectory.has_attitude)
+    throw InputError(spec.path, 0, spec.topic,
+                     std::string("carries no ") +
+                         (trajectory.has_position ? "attitude" : "position") +
+                         ": eval needs full poses (compare per quantity with `mavloc compare "
+                         "--reference LOG:TOPIC`)");
+  LoadedTrajectory out;
+  out.states = trajectory.states;
+  out.report.path = path;
+  out.report.format = TrajectoryFormat::kLog;
+  out.report.layout =
+      trajectory.type + " " + trajectory.parent_frame + " -> " + trajectory.child_frame;
+  out.report.rows = trajectory.states.size();
+  out.report.has_velocity = trajectory.has_velocity;
+  return out;
+}
+
+std::optional<TrajectoryFormat> ParseTrajectoryFormat(const std::string& name) {
+  if (name == "auto") return TrajectoryFormat::kAuto;
+  if (name == "tum") return TrajectoryFormat::kTum;
+  if (name == "euroc") return TrajectoryFormat::kEuroc;
+  if (name == "asl") return TrajectoryFormat::kAsl;
+  if (name == "kitti") return TrajectoryFormat::kKitti;
+  return std::nullopt;
+}
+
+std::string TrajectoryFormatName(TrajectoryFormat format) {
+  switch (format) {
+    case TrajectoryFormat::kAuto:
+      return "auto";
+    case TrajectoryFormat::kTum:
+      return "tum";
+    case TrajectoryFormat::kEuroc:
+      return "euroc";
+    case TrajectoryFormat::kAsl:
+      return "asl";
+    case TrajectoryFormat::kKitti:
+      return "kitti";
+    case TrajectoryFormat::kLog:
+      return "log";
+  }
+  return "?";
+}
+
+std::vector<StampedPose> LoadedTrajectory::Poses() const {
+  std::vector<StampedPose> poses;
+  poses.reserve(states.size());
+  for (const auto& s : states) poses.push_back({s.t_ns, s.T_W_B});
+  return poses;
+}
+
+LoadedTrajectory ReadTrajectory(const std::string& path, const TrajectoryReadOptions& options) {
+  if (const auto log_topic = ParseLogTopicSpec(path))
+    return ReadLogTopicTrajectory(*log_topic, path, options);
+  const TrajectoryText text = ReadTrajectoryText(path);
+  if (text.rows.empty()) throw InputError(path, 0, "", "file has no data rows");
+  LoadedTrajectory out;
+  TrajectoryReadReport& report = out.report;
+  report.path = path;
+  report.rows = text.rows.size();
+  report.had_bom = text.had_bom;
+  report.had_crlf = text.had_crlf;
+  report.format_forced = options.format != TrajectoryFormat::kAuto;
+  report.format = report.format_forced ? options.format : DetectTrajectoryFormat(text);
+  if (!options.times_path.empty() && report.format != TrajectoryFormat::kKitti)
+    throw InputError(options.times_path, 0, "",
+                     "a times file is only used with KITTI pose files, and '" + path + "' is " +
+                         TrajectoryFormatName(report.format));
+
+  if (report.format == TrajectoryFormat::kKitti) {
+    const KittiRowsResult kitti = ParseKittiRows(text);
+    std::vector<RowState> rows(kitti.poses.size());
+    std::string stamp_path = path, stamp_field = "index";
+    if (!options.times_path.empty()) {
+      const KittiTimes times = ReadKittiTimes(options.times_path);
+      if (times.t_ns.size() != kitti.poses.size())
+        throw InputError(options.times_path, 0, "",
+                         fmt::format("has {} stamps but '{}' has {} poses", times.t_ns.size(), path,
+                                     kitti.poses.size()));
+      for (size_t i = 0; i < rows.size(); ++i) {
+        rows[i].state.t_ns = times.t_ns[i];
+        rows[i].line = times.lines[i];
+      }
+      stamp_path = options.times_path;
+      stamp_field = "timestamp";
+      report.times_path = options.times_path;
+    } else {
+      report.has_stamps = false;
+      for (size_t i = 0; i < rows.size(); ++i) {
+        rows[i].state.t_ns = static_cast<TimeNs>(i) * kNsPerSecond;
+        rows[i].line = kitti.lines[i];
+      }
+    }
+    for (size_t i = 0; i < rows.size(); ++i) rows[i].state.T_W_B = kitti.poses[i];
+    report.quaternions_normalised = kitti.rotations_projected;
+    report.max_quaternion_norm_error = kitti.max_orthonormality_error;
+    report.layout =
+        options.times_path.empty()
+            ? "kitti (12 columns: T_W_C 3x4 row-major; no times file: pose i at i s, "
+              "associated by index)"
+            : "kitti (12 columns: T_W_C 3x4 row-major; stamps from " + options.times_path + ")";
+    out.states = OrderRows(std::move(rows), stamp_path, stamp_field, options, &report);
+    return out;
+  }
+
+  const PoseColumnLayout layout = ChooseLayout(text, report.format, report.format_forced);
+  report.format = layout.format == TrajectoryFormat::kAsl || !report.format_forced ? layout.format
+                                                                                   : report.format;
+  report.layout = layout.description;
+  std::vector<RowState> rows = ParsePoseRows(text, layout, &report);
+  out.states = OrderRows(std::move(rows), path, layout.Name(layout.t), options, &report);
+  return out;
+}
+
+std::string DescribeRowFixes(const TrajectoryReadReport& report) {
+  std::string text;
+  if (report.rows_out_of_order > 0)
+    text +=
+        fmt::format("{}: {} rows out of time order sorted (--sort), first at {}:{}", report.path,
+                    report.rows_out_of_order, report.path, report.first_out_of_order_line);
+  if (report.duplicates_dropped > 0) {
+    if (!text.empty()) text += "; ";
+    text += fmt::format(
+        "{}: {} row{} with a repeated timestamp dropped (kept the first), first at {}:{}",
+        report.path, report.duplicates_dropped, report.duplicates_dropped == 1 ? "" : "s",
+        report.times_path.empty() ? report.path : report.times_path, report.first_duplicate_line);
+  }
+  return text;
+}
+
+}  // namespace mavloc

@@ -1,0 +1,49 @@
+#include "datasets/io/trajectory_formats/trajectory_stamps.h"
+
+#include <cmath>
+
+#include "datasets/io/trajectory_formats/trajectory_text.h"
+
+namespace mavloc {
+
+namespace {
+
+bool Digits(const std::string& s) { return s.find_first_not_of("0123456789") == std::string::npos; }
+
+}  // namespace
+
+bool ParseSecondsAsNs(const std::string& text, TimeNs* t_ns) {
+  const std::string body = !text.empty() && text[0] == '+' ? text.substr(1) : text;
+  const auto dot = body.find('.');
+  const std::string integer = body.substr(0, dot);
+  const std::string fraction = dot == std::string::npos ? "" : body.substr(dot + 1);
+  if (!integer.empty() && Digits(integer) && Digits(fraction) && integer.size() < 11) {
+    std::string nanos = fraction.substr(0, 9);
+    nanos.resize(9, '0');
+    TimeNs t = std::stoll(integer) * kNsPerSecond + std::stoll(nanos);
+    if (fraction.size() > 9 && fraction[9] >= '5') ++t;
+    *t_ns = t;
+    return true;
+  }
+  double seconds = 0.0;
+  if (!ParseFiniteDouble(text, &seconds) || seconds < 0.0 || seconds > 9.2e9) return false;
+  *t_ns = SecondsToNs(seconds);
+  return true;
+}
+
+bool ParseNanoseconds(const std::string& text, TimeNs* t_ns) {
+  if (!text.empty() && Digits(text) && text.size() <= 18) {
+    *t_ns = std::stoll(text);
+    return true;
+  }
+  if (!text.empty() && Digits(text) && text.size() == 19 && text <= "9223372036854775807") {
+    *t_ns = std::stoll(text);
+    return true;
+  }
+  double ns = 0.0;
+  if (!ParseFiniteDouble(text, &ns) || ns < 0.0 || ns > 9.2e18) return false;
+  *t_ns = static_cast<TimeNs>(std::llround(ns));
+  return true;
+}
+
+}  // namespace mavloc

@@ -1,0 +1,46 @@
+// The text layer under every trajectory reader: a file split into numbered rows of fields, with the
+// leniencies of the tools whose files mavloc reads (evo's file_interface.csv_read_matrix, OpenVINS
+// ov_eval's Loader, the TUM RGB-D tools):
+// - a UTF-8 byte order mark at the start is skipped (evo: has_utf8_bom);
+// - CRLF line endings are accepted (the '\r' is dropped);
+// - blank lines and lines whose first non-blank character is '#' are skipped; the last '#' line
+//   before the first data row is kept as the header naming the columns ("#timestamp,x,y,...",
+//   "# timestamp tx ty tz qx qy qz qw", OpenVINS' "# timestamp(s) q p v ..."). A first row whose
+//   first field is a word (a CSV header without '#', or rostopic's "%time,field...") is taken as
+//   the header too;
+// - separators: when the first data row has a comma, every row is split at commas (fields trimmed
+//   of spaces and tabs; one trailing empty field, as VINS-Fusion's "...,vz," writes, is dropped);
+//   otherwise at runs of spaces and tabs (evo splits at single spaces only; mavloc accepts more).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace mavloc {
+
+struct TrajectoryRow {
+  long line = 0;                    // 1-based line number in the file
+  std::vector<std::string> fields;  // trimmed
+};
+
+struct TrajectoryText {
+  std::string path;
+  std::vector<std::string> header;  // names from the header line (empty when there is none)
+  std::string header_line;          // the header as written (without '#')
+  std::vector<TrajectoryRow> rows;
+  bool comma_separated = false;
+  bool had_bom = false;
+  bool had_crlf = false;
+};
+
+// Throws InputError (file) when the file does not exist, is a folder, or cannot be read; an empty
+// result (no rows) is returned as is, the readers decide.
+TrajectoryText ReadTrajectoryText(const std::string& path);
+
+// Splits one line (already without '\r') as described above.
+std::vector<std::string> SplitTrajectoryLine(const std::string& line, bool comma_separated);
+
+// Parses a whole field as a finite double (strtod, no trailing characters); false otherwise.
+bool ParseFiniteDouble(const std::string& text, double* value);
+
+}  // namespace mavloc

@@ -1,0 +1,76 @@
+// ULog message formats ('F' messages, "name:type field;type[N] field;...") and their flattening
+// into primitive fields with byte offsets (spec: docs.px4.io/main/en/dev_log/ulog_file_format.html,
+// "Format Message"). Nested types are other formats of the same log; arrays of primitives and of
+// nested types are expanded element by element, named as pyulog names them ("gyro_rad[0]",
+// "esc[1].esc_rpm"). Fields named "_padding*" are kept for offsets; trailing ones are left out of
+// the logged size (PX4's logger does not write them).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace mavloc::ulog {
+
+enum class PrimitiveType {
+  kInt8,
+  kUint8,
+  kInt16,
+  kUint16,
+  kInt32,
+  kUint32,
+  kInt64,
+  kUint64,
+  kFloat,
+  kDouble,
+  kBool,
+  kChar
+};
+
+// Size in bytes, or 0 when `type` is not one of the spec's primitive type names.
+int PrimitiveSize(PrimitiveType type);
+bool ParsePrimitiveType(std::string_view name, PrimitiveType* type);
+
+struct FormatField {
+  std::string type;    // "float", "uint8_t", or a nested format name
+  int array_size = 0;  // 0: scalar; N: type[N]
+  std::string name;
+};
+
+struct MessageFormat {
+  std::string name;
+  std::vector<FormatField> fields;
+};
+
+// Parses the text of an 'F' message. Returns false with `error` set on malformed text.
+bool ParseMessageFormat(std::string_view text, MessageFormat* format, std::string* error);
+
+struct FlatField {
+  std::string name;  // "timestamp", "q[3]", "esc[1].esc_rpm"
+  PrimitiveType type = PrimitiveType::kUint8;
+  int offset = 0;  // bytes from the start of the message payload (after the msg_id)
+};
+
+// One topic's fields, flattened.
+struct FlatLayout {
+  std::vector<FlatField> fields;  // in file order, trailing "_padding" fields removed
+  int logged_size = 0;            // bytes without trailing padding (pyulog's message size)
+  int full_size = 0;              // bytes including trailing padding
+  int timestamp_offset = -1;      // of the top-level uint64 "timestamp", -1 when absent
+
+  const FlatField* Find(std::string_view name) const;
+};
+
+// Flattens format `name` using `formats` for nested types. Returns false with `error` naming the
+// missing type or the recursion when a format is unknown or nests itself.
+bool FlattenFormat(const std::map<std::string, MessageFormat>& formats, const std::string& name,
+                   FlatLayout* layout, std::string* error);
+
+// Decodes one primitive field at `data + field.offset` (little endian) as a double.
+double ReadFieldAsDouble(const uint8_t* data, const FlatField& field);
+uint64_t ReadUint64(const uint8_t* data);
+uint16_t ReadUint16(const uint8_t* data);
+
+}  // namespace mavloc::ulog

@@ -1,0 +1,331 @@
+// ReadUlogTrajectory: PX4 pose topics as mavloc trajectories (frames in ulog_frames.h). Field
+// meanings from PX4's msg/VehicleAttitude.msg, msg/VehicleLocalPosition.msg and
+// msg/VehicleOdometry.msg (v1.14 and later; v1.13 and earlier for the older layout).
+#include <fmt/format.h>
+
+#include <cmath>
+#include <functional>
+
+#include "core/errors.h"
+#include "datasets/io/ulog/ulog_frames.h"
+#include "datasets/io/ulog/ulog_reader.h"
+#include "datasets/io/ulog/ulog_topic_fields.h"
+
+namespace mavloc {
+namespace {
+
+using Covariance6 = Eigen::Matrix<double, 6, 6>;
+
+constexpr const char* kWorldEnu = "world_enu";  // from PX4's NED
+constexpr const char* kWorldFlu = "world_flu";  // from PX4's FRD earth frame (arbitrary heading)
+constexpr const char* kBodyFlu = "body_flu";    // from PX4's FRD body frame
+
+// Column lookup by name in a TopicTable.
+class Columns {
+ public:
+  explicit Columns(const ulog::TopicTable& table) : table_(table) {}
+  size_t Index(const std::string& name) const {
+    for (size_t i = 0; i < table_.fields.size(); ++i) {
+      if (table_.fields[i] == name) return i;
+    }
+    return table_.fields.size();
+  }
+  bool Has(const std::string& name) const {
+    const size_t i = Index(name);
+    return i < table_.fields.size() && table_.has(i);
+  }
+  double Get(size_t row, const std::string& name) const { return table_.at(row, Index(name)); }
+  Eigen::Vector3d Vec3(size_t row, const std::string& a, const std::string& b,
+                       const std::string& c) const {
+    return {Get(row, a), Get(row, b), Get(row, c)};
+  }
+  Eigen::Quaterniond Quat(size_t row) const {  // PX4 q[4] is (w, x, y, z)
+    return {Get(row, "q[0]"), Get(row, "q[1]"), Get(row, "q[2]"), Get(row, "q[3]")};
+  }
+  // timestamp_sample (when the data was sampled) if the topic has it, else timestamp.
+  TimeNs StampNs(size_t row) const {
+    if (Has("timestamp_sample")) return static_cast<TimeNs>(Get(row, "timestamp_sample")) * 1000;
+    return static_cast<TimeNs>(table_.t_us[row]) * 1000;
+  }
+
+ private:
+  const ulog::TopicTable& table_;
+};
+
+std::vector<ulog::FieldRequest> Optional(const std::vector<std::string>& names) {
+  std::vector<ulog::FieldRequest> requests;
+  for (const std::string& n : names) requests.push_back({n, false});
+  return requests;
+}
+
+std::vector<std::string> Indexed(const std::string& name, int count) {
+  std::vector<std::string> names;
+  for (int i = 0; i < count; ++i) names.push_back(fmt::format("{}[{}]", name, i));
+  return names;
+}
+
+void Append(std::vector<std::string>* a, const std::vector<std::string>& b) {
+  a->insert(a->end(), b.begin(), b.end());
+}
+
+bool QuaternionValid(const Eigen::Quaterniond& q) {
+  return q.coeffs().allFinite() && std::abs(q.norm() - 1.0) < 0.1;
+}
+
+// Keeps states with increasing stamps (a repeated stamp keeps the first message).
+void PushState(LogTrajectory* trajectory, const GroundTruthState& state,
+               const Covariance6* covariance) {
+  if (!trajectory->states.empty() && state.t_ns <= trajectory->states.back().t_ns) return;
+  trajectory->states.push_back(state);
+  if (covariance != nullptr) trajectory->covariance.push_back(*covariance);
+}
+
+void RequireStates(const LogTrajectory& trajectory, const std::string& path,
+                   const std::string& topic, size_t messages) {
+  if (trajectory.states.empty()) {
+    throw InputError(path, 0, topic,
+                     fmt::format("none of the topic's {} messages has a valid pose", messages));
+  }
+}
+
+LogTrajectory FromAttitude(const std::string& path, const std::string& topic,
+                           const UlogProgress& progress) {
+  std::vector<ulog::FieldRequest> requests;
+  for (const std::string& n : Indexed("q", 4)) requests.push_back({n, true});
+  requests.push_back({"timestamp_sample", false});
+  const ulog::TopicTable table = ulog::ReadTopicFields(path, topic, requests, progress);
+  const Columns c(table);
+  LogTrajectory trajectory;
+  trajectory.parent_frame = kWorldEnu;
+  trajectory.child_frame = kBodyFlu;
+  trajectory.has_position = false;  // attitude only: p = 0 is not a position
+  for (size_t i = 0; i < table.rows(); ++i) {
+    const Eigen::Quaterniond q_ned_frd = c.Quat(i);
+    if (!QuaternionValid(q_ned_frd)) continue;
+    GroundTruthState state;
+    state.t_ns = c.StampNs(i);
+    state.T_W_B.q = ulog::ToMavlocQuaternion(ulog::R_ENU_NED(), q_ned_frd);
+    PushState(&trajectory, state, nullptr);
+  }
+  RequireStates(trajectory, path, topic, table.rows());
+  return trajectory;
+}
+
+LogTrajectory FromLocalPosition(const std::string& path, const std::string& topic,
+                                const UlogProgress& progress) {
+  std::vector<ulog::FieldRequest> requests = {{"x"}, {"y"}, {"z"}};
+  const std::vector<ulog::FieldRequest> optional = Optional(
+      {"vx", "vy", "vz", "xy_valid", "z_valid", "v_xy_valid", "v_z_valid", "timestamp_sample"});
+  requests.insert(requests.end(), optional.begin(), optional.end());
+  const ulog::TopicTable table = ulog::ReadTopicFields(path, topic, requests, progress);
+  const Columns c(table);
+  const auto flag = [&](size_t row, const char* name) { return !c.Has(name) || c.Get(row, name); };
+  LogTrajectory trajectory;
+  trajectory.parent_frame = kWorldEnu;
+  // vehicle_local_position carries no attitude: B keeps W's orientation (identity rotation).
+  trajectory.child_frame = "body_position_only";
+  trajectory.has_attitude = false;
+  bool all_velocities = c.Has("vx") && c.Has("vy") && c.Has("vz");
+  for (size_t i = 0; i < table.rows(); ++i) {
+    const Eigen::Vector3d p_ned = c.Vec3(i, "x", "y", "z");
+    // A message is kept when its horizontal or its vertical position is valid: PX4 logs z alone
+    // (baro) without a horizontal fix, keeping x = y at their last value.
+    if ((!flag(i, "xy_valid") && !flag(i, "z_valid")) || !p_ned.allFinite()) continue;
+    GroundTruthState state;
+    state.t_ns = c.StampNs(i);
+    state.T_W_B.p = ulog::NedToEnu(p_ned);
+    if (all_velocities) {
+      const Eigen::Vector3d v_ned = c.Vec3(i, "vx", "vy", "vz");
+      if (!flag(i, "v_xy_valid") || !flag(i, "v_z_valid") || !v_ned.allFinite()) {
+        all_velocities = false;
+      } else {
+        state.v_W = ulog::NedToEnu(v_ned);
+      }
+    }
+    PushState(&trajectory, state, nullptr);
+  }
+  RequireStates(trajectory, path, topic, table.rows());
+  trajectory.has_velocity = all_velocities;
+  if (!all_velocities) {
+    for (GroundTruthState& s : trajectory.states) s.v_W.setZero();
+  }
+  return trajectory;
+}
+
+// The earth-frame code of a vehicle_odometry message -> the rotation into mavloc's W and its
+// name. PX4 >= 1.14 pose_frame: 1 NED, 2 FRD; older local_frame: 0 NED, 1 FRD.
+bool EarthFrame(bool new_layout, double code, Eigen::Matrix3d* R_W_Wpx4, const char** name) {
+  const int frame = static_cast<int>(code);
+  const int ned = new_layout ? 1 : 0;
+  const int frd = new_layout ? 2 : 1;
+  if (frame == ned) {
+    *R_W_Wpx4 = ulog::R_ENU_NED();
+    *name = kWorldEnu;
+    return true;
+  }
+  if (frame == frd) {
+    *R_W_Wpx4 = ulog::R_FLU_FRD();
+    *name = kWorldFlu;
+    return true;
+  }
+  return false;
+}
+
+LogTrajectory FromOdometry(const std::string& path, const std::string& topic,
+                           const UlogProgress& progress) {
+  std::vector<std::string> names = {"timestamp_sample",
+                                    "pose_frame",
+                                    "local_frame",
+                                    "velocity_frame",
+                                    "x",
+                                    "y",
+                                    "z",
+                                    "vx",
+                                    "vy",
+                                    "vz"};
+  Append(&names, Indexed("q", 4));
+  Append(&names, Indexed("position", 3));
+  Append(&names, Indexed("velocity", 3));
+  Append(&names, Indexed("position_variance", 3));
+  Append(&names, Indexed("orientation_variance", 3));
+  Append(&names, Indexed("pose_covariance", 21));
+  const ulog::TopicTable table = ulog::ReadTopicFields(path, topic, Optional(names), progress);
+  const Columns c(table);
+  const bool new_layout = c.Has("position[0]") && c.Has("pose_frame");
+  const bool old_layout = c.Has("x") && c.Has("local_frame");
+  if ((!new_layout && !old_layout) || !c.Has("q[0]")) {
+    throw InputError(path, 0, topic,
+                     "not a PX4 odometry topic: expected position[3], q[4], pose_frame "
+                     "(PX4 >= 1.14) or x, y, z, q[4], local_frame (older)");
+  }
+  const std::string p0 = new_layout ? "position[0]" : "x";
+  const std::string p1 = new_layout ? "position[1]" : "y";
+  const std::string p2 = new_layout ? "position[2]" : "z";
+  const std::string v0 = new_layout ? "velocity[0]" : "vx";
+  const std::string v1 = new_layout ? "velocity[1]" : "vy";
+  const std::string v2 = new_layout ? "velocity[2]" : "vz";
+  const bool velocity_fields = c.Has(v0) && c.Has("velocity_frame");
+  const bool covariance_fields =
+      new_layout ? c.Has("position_variance[0]") && c.Has("orientation_variance[0]")
+                 : c.Has("pose_covariance[0]");
+  LogTrajectory trajectory;
+  trajectory.child_frame = kBodyFlu;
+  bool all_velocities = velocity_fields;
+  bool all_covariances = covariance_fields;
+  std::vector<Covariance6> covariances;
+  for (size_t i = 0; i < table.rows(); ++i) {
+    Eigen::Matrix3d R_W_Wpx4;
+    const char* frame_name = nullptr;
+    const double frame_code = c.Get(i, new_layout ? "pose_frame" : "local_frame");
+    if (!EarthFrame(new_layout, frame_code, &R_W_Wpx4, &frame_name)) {
+      throw InputError(path, 0, topic,
+                       fmt::format("message {}: unsupported pose frame {} (only NED and FRD "
+                                   "earth frames are converted)",
+                                   i, frame_code));
+    }
+    if (trajectory.parent_frame.empty()) trajectory.parent_frame = frame_name;
+    if (trajectory.parent_frame != frame_name) {
+      throw InputError(path, 0, topic,
+                       fmt::format("message {}: the pose frame changes from {} to {}", i,
+                                   trajectory.parent_frame, frame_name));
+    }
+    const Eigen::Vector3d p = c.Vec3(i, p0, p1, p2);
+    const Eigen::Quaterniond q = c.Quat(i);
+    if (!p.allFinite() || !QuaternionValid(q)) continue;
+    GroundTruthState state;
+    state.t_ns = c.StampNs(i);
+    state.T_W_B = Pose(ulog::ToMavlocQuaternion(R_W_Wpx4, q), R_W_Wpx4 * p);
+    if (all_velocities) {
+      const Eigen::Vector3d v = c.Vec3(i, v0, v1, v2);
+      const int vframe = static_cast<int>(c.Get(i, "velocity_frame"));
+      // Velocity frames: PX4 >= 1.14 1 NED, 2 FRD earth, 3 FRD body; older 0 NED, 1 FRD earth,
+      // 3 FRD body.
+      const int ned = new_layout ? 1 : 0;
+      const int frd = new_layout ? 2 : 1;
+      if (!v.allFinite()) {
+        all_velocities = false;
+      } else if (vframe == 3) {
+        state.v_W = state.T_W_B.R() * ulog::FrdToFlu(v);
+      } else if (vframe == ned) {
+        state.v_W = ulog::NedToEnu(v);
+      } else if (vframe == frd) {
+        state.v_W = ulog::R_FLU_FRD() * v;
+      } else {
+        all_velocities = false;
+      }
+    }
+    Covariance6 cov = Covariance6::Zero();
+    if (all_covariances) {
+      if (new_layout) {
+        // position_variance in the earth frame, orientation_variance about the body axes; the
+        // fixed axis flips leave the variances' order (x, y, z) only permuted for NED -> ENU.
+        const Eigen::Vector3d var_p =
+            c.Vec3(i, "position_variance[0]", "position_variance[1]", "position_variance[2]");
+        const Eigen::Vector3d var_r = c.Vec3(i, "orientation_variance[0]",
+                                             "orientation_variance[1]", "orientation_variance[2]");
+        cov.topLeftCorner<3, 3>() = R_W_Wpx4 * var_p.asDiagonal() * R_W_Wpx4.transpose();
+        cov.bottomRightCorner<3, 3>() =
+            ulog::R_FLU_FRD() * var_r.asDiagonal() * ulog::R_FLU_FRD().transpose();
+      } else {
+        // pose_covariance: upper-right triangle, row-major, of the 6x6 [x y z roll pitch yaw]
+        // covariance in local_frame.
+        int k = 0;
+        for (int r = 0; r < 6; ++r) {
+          for (int col = r; col < 6; ++col, ++k) {
+            cov(r, col) = cov(col, r) = c.Get(i, fmt::format("pose_covariance[{}]", k));
+          }
+        }
+        Covariance6 R6 = Covariance6::Zero();
+        R6.topLeftCorner<3, 3>() = R_W_Wpx4;
+        R6.bottomRightCorner<3, 3>() = R_W_Wpx4;
+        cov = R6 * cov * R6.transpose();
+      }
+      if (!cov.allFinite() || cov.isZero() || (cov.diagonal().array() < 0.0).any()) {
+        all_covariances = false;
+      }
+    }
+    const size_t before = trajectory.states.size();
+    PushState(&trajectory, state, nullptr);
+    if (trajectory.states.size() > before) covariances.push_back(cov);
+  }
+  RequireStates(trajectory, path, topic, table.rows());
+  trajectory.has_velocity = all_velocities;
+  if (!all_velocities) {
+    for (GroundTruthState& s : trajectory.states) s.v_W.setZero();
+  }
+  if (all_covariances) trajectory.covariance = std::move(covariances);
+  return trajectory;
+}
+
+}  // namespace
+
+LogTrajectory ReadUlogTrajectory(const LogTopicSpec& spec, const UlogProgress& progress) {
+  ulog::TopicSelector selector = ulog::ParseTopicSelector(spec.path, spec.topic);
+  // The instance comes from the topic's ".N" suffix or, without one, from spec.instance.
+  std::string topic = spec.topic;
+  if (spec.topic.find('.') == std::string::npos && spec.instance > 0) {
+    selector.multi_id = spec.instance;
+    topic = fmt::format("{}.{}", spec.topic, spec.instance);
+  }
+  LogTrajectory trajectory;
+  if (selector.name == "vehicle_attitude" || selector.name == "vehicle_attitude_groundtruth") {
+    trajectory = FromAttitude(spec.path, topic, progress);
+  } else if (selector.name == "vehicle_local_position" ||
+             selector.name == "vehicle_local_position_groundtruth") {
+    trajectory = FromLocalPosition(spec.path, topic, progress);
+  } else if (selector.name == "vehicle_odometry" || selector.name == "vehicle_visual_odometry" ||
+             selector.name == "vehicle_mocap_odometry" || selector.name == "estimator_odometry" ||
+             selector.name == "estimator_visual_odometry_aligned") {
+    trajectory = FromOdometry(spec.path, topic, progress);
+  } else {
+    throw InputError(spec.path, 0, spec.topic,
+                     "not a supported ULog trajectory topic (vehicle_attitude, "
+                     "vehicle_local_position, vehicle_odometry, vehicle_visual_odometry, "
+                     "vehicle_mocap_odometry, or .N instances of them)");
+  }
+  trajectory.source = fmt::format("{}:{}", spec.path, topic);
+  trajectory.type = selector.name;
+  return trajectory;
+}
+
+}  // namespace mavloc

@@ -1,0 +1,291 @@
+#include "evaluation/report_figures.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "evaluation/report_figures_script.h"  // generated: kReportFiguresScript (CMakeLists.txt)
+#include "evaluation/report_html.h"
+
+namespace mavloc {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kDefaultPython = "/usr/bin/python3";
+// The Markdown section this file appends (and replaces on a re-run) in report.md / eval.md.
+constexpr const char* kFiguresMarker = "<!-- mavloc:figures -->";
+// Exit code of the script when matplotlib or numpy cannot be imported.
+constexpr int kMissingModuleExit = 3;
+
+bool Exists(const std::string& dir, const std::string& name) {
+  std::error_code error;
+  return fs::exists(fs::path(dir) / name, error);
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// POSIX shell single quoting: ' -> '\''.
+std::string ShellQuote(const std::string& text) {
+  std::string out = "'";
+  for (const char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string LastLines(const std::string& text, int count) {
+  std::string trimmed = text;
+  while (!trimmed.empty() && (trimmed.back() == '\n' || trimmed.back() == '\r')) trimmed.pop_back();
+  size_t begin = trimmed.size();
+  for (int k = 0; k < count && begin != std::string::npos && begin > 0; ++k)
+    begin = trimmed.rfind('\n', begin - 1);
+  return begin == std::string::npos ? trimmed : trimmed.substr(begin + 1);
+}
+
+std::string PythonPath() {
+  const char* env = std::getenv("MAVLOC_PYTHON");
+  return env && *env ? env : kDefaultPython;
+}
+
+std::string HowToGetFigures(const std::string& report_dir) {
+  return "the figures need Python 3 with matplotlib: on Debian or Ubuntu `sudo apt-get install "
+         "python3-matplotlib` (scripts/setup installs it), then `mavloc figures " +
+         report_dir +
+         "` draws them and rewrites report.html from this folder (or run the same mavloc command "
+         "again). Another interpreter: set MAVLOC_PYTHON=/path/to/python3.";
+}
+
+struct ScriptRun {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+// Writes the embedded script to a temporary file and runs it: python SCRIPT DIR --kind KIND.
+ScriptRun RunScript(const std::string& python, const std::string& report_dir,
+                    const std::string& kind) {
+  static std::atomic<int> counter{0};
+  const std::string stem =
+      "mavloc_report_figures_" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+  std::error_code error;
+  const fs::path tmp = fs::temp_directory_path(error);
+  const std::string script = (tmp / (stem + ".py")).string();
+  const std::string err_path = (tmp / (stem + ".err")).string();
+  ScriptRun run;
+  {
+    std::ofstream out(script, std::ios::binary);
+    out << kReportFiguresScript;
+    if (!out) {
+      run.err = "cannot write the plotting script to " + script;
+      return run;
+    }
+  }
+  const std::string command = "exec " + ShellQuote(python) + " " + ShellQuote(script) + " " +
+                              ShellQuote(report_dir) + " --kind " + kind + " 2>" +
+                              ShellQuote(err_path) + " </dev/null";
+  std::fflush(nullptr);
+  if (FILE* pipe = ::popen(command.c_str(), "r")) {
+    char buffer[4096];
+    size_t n = 0;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) run.out.append(buffer, n);
+    const int status = ::pclose(pipe);
+    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  } else {
+    run.err = "cannot start " + python;
+  }
+  run.err += ReadFile(err_path);
+  fs::remove(script, error);
+  fs::remove(err_path, error);
+  return run;
+}
+
+std::string MarkdownName(ReportKind kind) {
+  return kind == ReportKind::kEval ? "eval.md" : "report.md";
+}
+
+std::string WithoutFiguresSection(const std::string& markdown) {
+  const auto at = markdown.find(kFiguresMarker);
+  return at == std::string::npos ? markdown : markdown.substr(0, at);
+}
+
+std::string TitleOf(const std::string& markdown, const std::string& report_dir) {
+  std::istringstream in(markdown);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("# ", 0) == 0) return line.substr(2);
+  return "mavloc report: " + report_dir;
+}
+
+// The Markdown report says which figures there are (report.html holds them) or how to get them.
+std::string FiguresSection(const FigureOutcome& outcome) {
+  std::string text = std::string(kFiguresMarker) + "\n## Figures\n\n";
+  if (outcome.figures.empty()) {
+    text += "No figures: " + outcome.reason + "\n";
+    if (!outcome.how_to_get_figures.empty())
+      text += "\nTo get them: " + outcome.how_to_get_figures + "\n";
+    return text;
+  }
+  text += "All tables and figures in one page: [report.html](report.html).\n\n";
+  for (const auto& file : outcome.figures) text += "![" + file + "](" + file + ")\n\n";
+  if (!outcome.reason.empty()) text += "Some figures are missing: " + outcome.reason + "\n";
+  return text;
+}
+
+std::vector<std::string> DataFiles(const std::string& report_dir,
+                                   const std::vector<std::string>& figures) {
+  std::vector<std::string> files;
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(report_dir, error)) {
+    if (!entry.is_regular_file(error)) continue;
+    const std::string name = entry.path().filename().string();
+    if (name == "report.html" || name.find(".tmp-") != std::string::npos) continue;
+    if (std::find(figures.begin(), figures.end(), name) != figures.end()) continue;
+    files.push_back(name);
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// Draws the figures into `outcome` (figures, reason, how_to_get_figures).
+void DrawFigures(const std::string& report_dir, FigureOutcome* outcome,
+                 std::vector<HtmlFigure>* html_figures) {
+  const char* switch_env = std::getenv("MAVLOC_FIGURES");
+  if (switch_env && (std::string(switch_env) == "0" || std::string(switch_env) == "off")) {
+    outcome->reason = "figures switched off (MAVLOC_FIGURES=" + std::string(switch_env) + ")";
+    outcome->how_to_get_figures =
+        "unset MAVLOC_FIGURES and run `mavloc figures " + report_dir + "`";
+    return;
+  }
+  if (outcome->kind == ReportKind::kUnknown) {
+    outcome->reason = "the folder holds no mavloc report (eval.md, errors.csv or report.json)";
+    return;
+  }
+  const std::string python = PythonPath();
+  if (::access(python.c_str(), X_OK) != 0) {
+    outcome->reason = "no Python interpreter at " + python;
+    outcome->how_to_get_figures = HowToGetFigures(report_dir);
+    return;
+  }
+  const ScriptRun run = RunScript(python, report_dir, ReportKindName(outcome->kind));
+  std::istringstream lines(run.out);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind("figure\t", 0) != 0) continue;
+    const auto tab = line.find('\t', 7);
+    const std::string file = line.substr(7, tab == std::string::npos ? tab : tab - 7);
+    const std::string caption = tab == std::string::npos ? "" : line.substr(tab + 1);
+    const std::string bytes = ReadFile((fs::path(report_dir) / file).string());
+    if (bytes.empty()) continue;
+    outcome->figures.push_back(file);
+    html_figures->push_back({file, caption, bytes});
+  }
+  if (run.exit_code == kMissingModuleExit) {
+    outcome->reason =
+        "matplotlib is not available to " + python + " (" + LastLines(run.err, 1) + ")";
+    outcome->how_to_get_figures = HowToGetFigures(report_dir);
+  } else if (run.exit_code == 126 || run.exit_code == 127) {
+    outcome->reason = python + " cannot be run: " + LastLines(run.err, 1);
+    outcome->how_to_get_figures = HowToGetFigures(report_dir);
+  } else if (run.exit_code != 0) {
+    outcome->reason = "the plotting script failed (exit code " + std::to_string(run.exit_code) +
+                      "): " + LastLines(run.err, 3);
+  } else if (outcome->figures.empty()) {
+    outcome->reason = "nothing to plot in this " + ReportKindName(outcome->kind) + " report";
+  }
+}
+
+}  // namespace
+
+std::string ReportKindName(ReportKind kind) {
+  switch (kind) {
+    case ReportKind::kEval:
+      return "eval";
+    case ReportKind::kCompare:
+      return "compare";
+    case ReportKind::kRepro:
+      return "repro";
+    case ReportKind::kUnknown:
+      break;
+  }
+  return "unknown";
+}
+
+ReportKind DetectReportKind(const std::string& report_dir) {
+  if (Exists(report_dir, "eval.md") || Exists(report_dir, "eval.json") ||
+      Exists(report_dir, "errors_over_time.csv"))
+    return ReportKind::kEval;
+  if (Exists(report_dir, "errors.csv")) return ReportKind::kCompare;
+  if (Exists(report_dir, "report.json")) return ReportKind::kRepro;
+  return ReportKind::kUnknown;
+}
+
+FigureOutcome WriteReportFigures(const std::string& report_dir) {
+  FigureOutcome outcome;
+  std::error_code error;
+  if (!fs::is_directory(report_dir, error)) {
+    outcome.reason = report_dir + ": not a folder";
+    return outcome;
+  }
+  outcome.kind = DetectReportKind(report_dir);
+  std::vector<HtmlFigure> html_figures;
+  try {
+    DrawFigures(report_dir, &outcome, &html_figures);
+  } catch (const std::exception& e) {  // e.g. temporary folder or pipe failures
+    outcome.reason = std::string("figures not drawn: ") + e.what();
+  }
+
+  const std::string markdown_path = (fs::path(report_dir) / MarkdownName(outcome.kind)).string();
+  const std::string markdown = WithoutFiguresSection(ReadFile(markdown_path));
+  HtmlPage page;
+  page.title = TitleOf(markdown, report_dir);
+  page.markdown = markdown;
+  page.figures = std::move(html_figures);
+  page.figures_note =
+      "No figures: " + outcome.reason +
+      (outcome.how_to_get_figures.empty() ? std::string()
+                                          : "\n\nTo get them: " + outcome.how_to_get_figures);
+  page.data_files = DataFiles(report_dir, outcome.figures);
+  try {
+    const std::string html_path = (fs::path(report_dir) / "report.html").string();
+    WriteFileAtomically(html_path, RenderReportHtml(page));
+    outcome.html_path = html_path;
+    if (!markdown.empty() || fs::exists(markdown_path, error)) {
+      std::string with_section = markdown;
+      while (!with_section.empty() && with_section.back() == '\n') with_section.pop_back();
+      WriteFileAtomically(markdown_path, with_section + "\n\n" + FiguresSection(outcome));
+    }
+  } catch (const std::exception& e) {
+    outcome.reason +=
+        std::string(outcome.reason.empty() ? "" : "; ") + "report.html not written: " + e.what();
+  }
+  return outcome;
+}
+
+std::string DescribeFigureOutcome(const FigureOutcome& outcome) {
+  std::string text;
+  if (!outcome.figures.empty()) {
+    text = "figures:";
+    for (size_t i = 0; i < outcome.figures.size(); ++i)
+      text += (i ? ", " : " ") + outcome.figures[i];
+  } else {
+    text = "no figures: " + outcome.reason;
+  }
+  if (!outcome.html_path.empty()) text += "; all in " + outcome.html_path;
+  if (!outcome.figures.empty() && !outcome.reason.empty()) text += " (" + outcome.reason + ")";
+  if (!outcome.how_to_get_figures.empty())
+    text += "\nto get the figures: " + outcome.how_to_get_figures;
+  return text;
+}
+
+}  // namespace mavloc

@@ -1,0 +1,198 @@
+#include "evaluation/trajectory_evaluation.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "core/rotation.h"
+
+namespace mavloc {
+
+namespace {
+
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+void SetWhy(std::string* why, const std::string& text) {
+  if (why) *why = text;
+}
+
+// Least-squares slope of y against x (0 when x does not vary).
+double Slope(const std::vector<double>& x, const std::vector<double>& y) {
+  const double n = static_cast<double>(x.size());
+  if (x.size() < 2) return 0.0;
+  double mx = 0.0, my = 0.0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    mx += x[i];
+    my += y[i];
+  }
+  mx /= n;
+  my /= n;
+  double sxy = 0.0, sxx = 0.0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    sxy += (x[i] - mx) * (y[i] - my);
+    sxx += (x[i] - mx) * (x[i] - mx);
+  }
+  return sxx > 0 ? sxy / sxx : 0.0;
+}
+
+YawDrift ComputeYawDrift(const std::vector<PosePair>& aligned, const std::vector<double>& dist) {
+  YawDrift drift;
+  if (aligned.size() < 2) return drift;
+  std::vector<double> yaw_deg(aligned.size()), t_s(aligned.size());
+  double previous = 0.0, unwrapped = 0.0;
+  for (size_t i = 0; i < aligned.size(); ++i) {
+    const Eigen::Matrix3d R_err_W =
+        (aligned[i].T_W_B_est.q * aligned[i].T_W_B_gt.q.conjugate()).toRotationMatrix();
+    const double yaw = EulerFromRotation(R_err_W).yaw;
+    unwrapped = i == 0 ? yaw : unwrapped + WrapAngle(yaw - previous);
+    previous = yaw;
+    yaw_deg[i] = unwrapped * kRadToDeg;
+    t_s[i] = NsToSeconds(aligned[i].t_ns - aligned.front().t_ns);
+  }
+  drift.valid = true;
+  drift.rate_deg_per_m = Slope(dist, yaw_deg);
+  drift.rate_deg_per_s = Slope(t_s, yaw_deg);
+  drift.final_deg = yaw_deg.back() - yaw_deg.front();
+  return drift;
+}
+
+double PathLength(const std::vector<StampedPose>& poses) {
+  double length = 0.0;
+  for (size_t i = 1; i < poses.size(); ++i)
+    length += (poses[i].T_W_B.p - poses[i - 1].T_W_B.p).norm();
+  return length;
+}
+
+}  // namespace
+
+const ErrorStatistics& TrajectoryEvaluation::HeadlineApe() const {
+  switch (protocol.ape_relation) {
+    case PoseRelation::kTranslation:
+      return ape_translation_m;
+    case PoseRelation::kRotationAngleDeg:
+      return ape_rotation_deg;
+    case PoseRelation::kRotationPart:
+      return ape_rotation_part;
+    case PoseRelation::kFull:
+      return ape_full;
+  }
+  return ape_translation_m;
+}
+
+std::optional<TrajectoryEvaluation> EvaluateTrajectory(const std::vector<StampedPose>& estimate,
+                                                       const std::vector<StampedPose>& truth,
+                                                       const EvaluationProtocol& protocol,
+                                                       std::string* why,
+                                                       TrajectoryDiagnostics* diagnostics_out) {
+  TrajectoryEvaluation out;
+  out.protocol = protocol;
+  out.estimate_count = estimate.size();
+  out.truth_count = truth.size();
+
+  // 1. Association.
+  AssociationResult association = AssociateTrajectories(
+      estimate, truth, {protocol.association, protocol.max_dt_s, protocol.time_offset_s});
+  std::vector<PosePair>& pairs = association.pairs;
+  out.pair_count = pairs.size();
+  out.diagnostics.pair_count =
+      DiagnosePairCount(pairs.size(), estimate, truth, protocol.diagnostics);
+  if (diagnostics_out) *diagnostics_out = out.diagnostics;
+  if (pairs.empty()) {
+    SetWhy(why, fmt::format("no estimate stamp within {} s of a truth stamp (time offset {} s)",
+                            protocol.max_dt_s, protocol.time_offset_s));
+    return std::nullopt;
+  }
+
+  // 2. Alignment.
+  if (protocol.align_origin && protocol.alignment != AlignmentMode::kNone) {
+    SetWhy(why, "align_origin cannot be combined with another alignment (as in evo)");
+    return std::nullopt;
+  }
+  const size_t n_align =
+      protocol.n_to_align < 0
+          ? pairs.size()
+          : std::min(pairs.size(), static_cast<size_t>(std::max(1L, protocol.n_to_align)));
+  std::optional<Similarity> S;
+  if (protocol.align_origin) {
+    S = AlignOrigin(pairs.front().T_W_B_est, pairs.front().T_W_B_gt);
+  } else if (n_align == 1 && protocol.alignment != AlignmentMode::kNone) {
+    S = AlignFirstPose(pairs.front().T_W_B_est, pairs.front().T_W_B_gt, protocol.alignment);
+  } else {
+    std::vector<Eigen::Vector3d> p_est(n_align), p_gt(n_align);
+    for (size_t i = 0; i < n_align; ++i) {
+      p_est[i] = pairs[i].T_W_B_est.p;
+      p_gt[i] = pairs[i].T_W_B_gt.p;
+    }
+    S = AlignPoints(p_est, p_gt, protocol.alignment);
+  }
+  if (!S) {
+    SetWhy(why, fmt::format("cannot align with {} on {} pairs: too few, or the positions are "
+                            "degenerate (coincident or collinear)",
+                            AlignmentModeName(protocol.alignment), n_align));
+    return std::nullopt;
+  }
+  out.alignment = *S;
+  out.aligned_pairs = protocol.alignment == AlignmentMode::kNone && !protocol.align_origin
+                          ? 0
+                          : (protocol.align_origin ? 1 : n_align);
+
+  // The estimate mapped in place (no second copy of the pairs).
+  std::vector<PosePair>& aligned = pairs;
+  for (auto& pair : aligned) pair.T_W_B_est = ApplySimilarity(*S, pair.T_W_B_est);
+
+  // 3. APE (evo): translation from the positions, the rest from E = T_gt^-1 T_est'.
+  out.pair_t_ns.reserve(aligned.size());
+  for (auto* series :
+       {&out.ape.translation_m, &out.ape.rotation_deg, &out.ape.rotation_part, &out.ape.full})
+    series->reserve(aligned.size());
+  for (const auto& pair : aligned) {
+    const Eigen::Matrix3d R_gt = pair.T_W_B_gt.R();
+    const PoseErrorValues e = PoseErrors(R_gt.transpose() * pair.T_W_B_est.R(),
+                                         R_gt.transpose() * (pair.T_W_B_est.p - pair.T_W_B_gt.p));
+    out.pair_t_ns.push_back(pair.t_ns);
+    out.ape.translation_m.push_back((pair.T_W_B_est.p - pair.T_W_B_gt.p).norm());
+    out.ape.rotation_deg.push_back(e.rotation_deg);
+    out.ape.rotation_part.push_back(e.rotation_part);
+    out.ape.full.push_back(e.full);
+  }
+  out.ape_translation_m = ComputeStatistics(out.ape.translation_m);
+  out.ape_rotation_deg = ComputeStatistics(out.ape.rotation_deg);
+  out.ape_rotation_part = ComputeStatistics(out.ape.rotation_part);
+  out.ape_full = ComputeStatistics(out.ape.full);
+
+  // 4. RPE (evo, on the aligned estimate).
+  for (const RpeDelta& delta : protocol.rpe_deltas) {
+    auto rpe = ComputeRpeEvo(aligned, delta);
+    if (!rpe) {
+      rpe = RpeDeltaResult{};
+      rpe->delta = delta;
+    }
+    out.rpe.push_back(std::move(*rpe));
+  }
+
+  // 5. Relative error (rpg: the unaligned estimate with the alignment's scale, its error expressed
+  //    in the unaligned estimate's world; the aligned pairs with scale 1 and R^T give the same).
+  const std::vector<double> dist = AccumulatedDistances(aligned);
+  out.truth_path_length_m = dist.back();
+  out.duration_s = NsToSeconds(aligned.back().t_ns - aligned.front().t_ns);
+  if (out.protocol.relative_lengths_m.empty()) {
+    out.protocol.relative_lengths_m =
+        DefaultRelativeLengths(PathLength(truth), protocol.relative_length_fractions);
+  }
+  for (double length : out.protocol.relative_lengths_m) {
+    out.relative.push_back(ComputeRelativeError(
+        aligned, dist, length, protocol.max_length_diff_fraction, 1.0, S->R.transpose()));
+  }
+
+  // 6. Yaw drift and diagnostics.
+  out.yaw_drift = ComputeYawDrift(aligned, dist);
+  out.diagnostics.rotation_offset = DiagnoseRotationOffset(aligned, protocol.diagnostics);
+  out.diagnostics.time_offset =
+      DiagnoseTimeOffset(estimate, truth, protocol.diagnostics, protocol.time_offset_s);
+  out.diagnostics.scale =
+      DiagnoseScale(protocol.alignment == AlignmentMode::kSim3, S->scale, protocol.diagnostics);
+  if (diagnostics_out) *diagnostics_out = out.diagnostics;
+  return out;
+}
+
+}  // namespace mavloc
