@@ -50,7 +50,8 @@ int main(int argc, char** argv) {
     std::string known;
     for (const auto* command : subcommands)
       known += (known.empty() ? "" : ", ") + command->get_name();
-    std::fprintf(stderr, "mavloc: unknown command '%s' (commands: %s)\n", argv[1], known.c_str());
+    std::fprintf(stderr, "mavloc: unknown command '%s' (commands: %s)\n",
+                 mavloc::PrintableMessage(argv[1], 200).c_str(), known.c_str());
     return 2;
   }
   try {
@@ -61,13 +62,15 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // Unknown options, missing arguments, bad values: one line, exit code 2.
-    std::fprintf(stderr, "mavloc: %s (see --help)\n", e.what());
+    std::fprintf(stderr, "mavloc: %s (see --help)\n", mavloc::PrintableMessage(e.what()).c_str());
     return 2;
   } catch (const mavloc::InputError& e) {
-    std::fprintf(stderr, "mavloc: error: %s\n", e.what());
+    // One readable line whatever the input held (binary garbage, a 10 MB field).
+    std::fprintf(stderr, "mavloc: error: %s\n", mavloc::PrintableMessage(e.what()).c_str());
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "mavloc: internal error: %s\n", e.what());
+    std::fprintf(stderr, "mavloc: internal error: %s\n",
+                 mavloc::PrintableMessage(e.what()).c_str());
     return 1;
   }
   return exit_code;

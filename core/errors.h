@@ -16,4 +16,11 @@ class InputError : public std::runtime_error {
              const std::string& message);
 };
 
+// A message made fit for one line of a terminal (issue 17, "Messages"): control bytes, DEL and
+// bytes that are not valid UTF-8 become \xNN (tab \t, newline \n, carriage return \r); a message
+// longer than max_bytes after escaping keeps its beginning and end around
+// " ... [N bytes cut] ... " (N bytes of the message), never splitting an escape or a UTF-8
+// character.
+std::string PrintableMessage(const std::string& message, size_t max_bytes = 1000);
+
 }  // namespace mavloc

@@ -1,10 +1,13 @@
 #include "datasets/io/log_reader.h"
 
+#include <fmt/format.h>
+
 #include <charconv>
 #include <filesystem>
 #include <fstream>
 
 #include "core/errors.h"
+#include "core/progress.h"
 #include "datasets/io/rosbag/rosbag_reader.h"
 #include "datasets/io/ulog/ulog_reader.h"
 
@@ -34,6 +37,14 @@ std::vector<std::string> SplitColons(const std::string& text) {
   }
   parts.push_back(text.substr(begin));
   return parts;
+}
+
+// A progress line on stderr about every 64 MiB of a ULog file (the reader calls back).
+UlogProgress UlogProgressLine(const std::string& path) {
+  return [path](uint64_t bytes_done, uint64_t bytes_total) {
+    ReportProgress(
+        "ulog", fmt::format("{}: {:.0f} of {:.0f} MB", path, bytes_done / 1e6, bytes_total / 1e6));
+  };
 }
 
 int ParseInstance(const std::string& spec, const std::string& text) {
@@ -109,7 +120,7 @@ std::vector<ImuSample> ReadLogImu(const std::string& path, const std::string& to
   std::string ulog_topic = topic;
   if (const size_t colon = ulog_topic.rfind(':'); colon != std::string::npos)
     ulog_topic[colon] = '.';
-  return ReadUlogImu(path, ulog_topic);
+  return ReadUlogImu(path, ulog_topic, UlogProgressLine(path));
 }
 
 LogTrajectory ReadLogTrajectory(const LogTopicSpec& spec) {
@@ -119,7 +130,7 @@ LogTrajectory ReadLogTrajectory(const LogTopicSpec& spec) {
   // The ULog reader names later instances of a multi-instance topic "name.N".
   LogTopicSpec ulog = spec;
   if (spec.instance > 0) ulog.topic += "." + std::to_string(spec.instance);
-  return ReadUlogTrajectory(ulog);
+  return ReadUlogTrajectory(ulog, UlogProgressLine(spec.path));
 }
 
 }  // namespace mavloc
