@@ -12,6 +12,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/progress.h"
+#include "core/stamp_rate.h"
 #include "datasets/io/calibration_io.h"
 #include "datasets/io/euroc_io.h"
 #include "datasets/io/log_reader.h"
@@ -28,12 +29,10 @@ const char* FormatName(LogFormat format) {
   return format == LogFormat::kRosbag ? "ROS1 bag" : "PX4 ULog";
 }
 
-double Seconds(TimeNs t_ns) { return static_cast<double>(t_ns) * 1e-9; }
-
 void PrintSummary(const LogSummary& summary) {
   std::printf("%s: %s, %.3f s (%.9f .. %.9f)\n", summary.path.c_str(), FormatName(summary.format),
-              Seconds(summary.t_end_ns - summary.t_start_ns), Seconds(summary.t_start_ns),
-              Seconds(summary.t_end_ns));
+              NsToSeconds(summary.t_end_ns - summary.t_start_ns), NsToSeconds(summary.t_start_ns),
+              NsToSeconds(summary.t_end_ns));
   size_t topic_width = 5, type_width = 4;
   for (const auto& t : summary.topics) {
     topic_width = std::max(topic_width, t.topic.size() + (t.instance > 0 ? 3 : 0));
@@ -44,14 +43,14 @@ void PrintSummary(const LogSummary& summary) {
               "last [s]");
   for (const auto& t : summary.topics) {
     const std::string name = t.instance > 0 ? fmt::format("{}:{}", t.topic, t.instance) : t.topic;
-    const double span_s = Seconds(t.t_last_ns - t.t_first_ns);
+    const double span_s = NsToSeconds(t.t_last_ns - t.t_first_ns);
     const std::string rate =
         t.messages > 1 && span_s > 0 ? fmt::format("{:.2f}", (t.messages - 1) / span_s) : "-";
     std::printf("%-*s  %-*s  %10llu  %10s  %12.3f  %12.3f\n", static_cast<int>(topic_width),
                 name.c_str(), static_cast<int>(type_width), t.type.c_str(),
                 static_cast<unsigned long long>(t.messages), rate.c_str(),
-                Seconds(t.t_first_ns - summary.t_start_ns),
-                Seconds(t.t_last_ns - summary.t_start_ns));
+                NsToSeconds(t.t_first_ns - summary.t_start_ns),
+                NsToSeconds(t.t_last_ns - summary.t_start_ns));
   }
   for (const auto& note : summary.notes) std::printf("note: %s\n", note.c_str());
 }
@@ -79,15 +78,6 @@ LogTopicSpec TopicOf(const std::string& log, const std::string& topic) {
   const auto spec = ParseLogTopicSpec(log + ":" + topic);
   if (!spec) throw InputError(log, 0, "", "not a ROS1 bag or PX4 ULog file");
   return *spec;
-}
-
-double MedianRateHz(const std::vector<TimeNs>& t_ns) {
-  if (t_ns.size() < 2) return 0.0;
-  std::vector<TimeNs> dt;
-  for (size_t i = 1; i < t_ns.size(); ++i) dt.push_back(t_ns[i] - t_ns[i - 1]);
-  std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
-  const TimeNs median = dt[dt.size() / 2];
-  return median > 0 ? 1e9 / static_cast<double>(median) : 0.0;
 }
 
 // "TOPIC=camN" -> {TOPIC, N}; a plain TOPIC -> {TOPIC, default_camera}.

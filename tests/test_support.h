@@ -37,3 +37,7 @@ struct CommandResult {
 CommandResult RunCommand(const std::string& command);
 
 }  // namespace mavloc::testing
+
+// Skips the test with a message when ../shared/data (the real logs) is absent.
+#define REQUIRE_SHARED_DATA() \
+  if (!::mavloc::testing::HasSharedData()) GTEST_SKIP() << "../shared/data is absent"

@@ -10,6 +10,7 @@
 
 #include "core/errors.h"
 #include "core/rotation.h"
+#include "core/stamp_rate.h"
 #include "datasets/io/aprilgrid_target_io.h"
 #include "datasets/io/calibration_io.h"
 #include "datasets/io/euroc_io.h"
@@ -55,15 +56,9 @@ std::vector<Source> ReadSources(const AprilgridLogInputs& inputs) {
   return sources;
 }
 
-// Median interval of increasing stamps as a rate [Hz] rounded to 0.001 Hz; 0 for < 2 stamps.
+// The median-interval rate (core/stamp_rate.h) rounded to 0.001 Hz, as written into sensor.yaml.
 double RateFromStamps(const std::vector<TimeNs>& t_ns) {
-  if (t_ns.size() < 2) return 0.0;
-  std::vector<TimeNs> dt;
-  dt.reserve(t_ns.size() - 1);
-  for (size_t i = 1; i < t_ns.size(); ++i) dt.push_back(t_ns[i] - t_ns[i - 1]);
-  std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
-  const double rate = 1e9 / static_cast<double>(dt[dt.size() / 2]);
-  return std::round(rate * 1000.0) / 1000.0;
+  return std::round(MedianRateHz(t_ns) * 1000.0) / 1000.0;
 }
 
 std::string PoseDifference(const Pose& a, const Pose& b) {

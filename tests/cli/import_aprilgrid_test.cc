@@ -22,9 +22,6 @@ using testing::CliPath;
 using testing::MakeTempDir;
 using testing::RunCommand;
 
-#define REQUIRE_SHARED_DATA() \
-  if (!testing::HasSharedData()) GTEST_SKIP() << "../shared/data is absent"
-
 std::string Log() { return testing::SharedDataDir() + "/euroc_imu_april"; }
 
 std::string Import(const std::string& corners0, const std::string& corners1,

@@ -25,9 +25,6 @@ using testing::CliPath;
 using testing::MakeTempDir;
 using testing::RunCommand;
 
-#define REQUIRE_SHARED_DATA() \
-  if (!testing::HasSharedData()) GTEST_SKIP() << "../shared/data is absent"
-
 std::string Test21() { return testing::SharedDataDir() + "/tagslam/test_21"; }
 
 TEST(CliImportTagslam, Test21EndToEndWithTagPnp) {

@@ -23,9 +23,6 @@ using testing::CliPath;
 using testing::MakeTempDir;
 using testing::RunCommand;
 
-#define REQUIRE_SHARED_DATA() \
-  if (!testing::HasSharedData()) GTEST_SKIP() << "../shared/data is absent"
-
 std::string Ulog() { return testing::SharedDataDir() + "/px4_ulog/sample.ulg"; }
 std::string Bag(const char* name) { return testing::SharedDataDir() + "/ros_bags/" + name; }
 

@@ -16,9 +16,6 @@ namespace fs = std::filesystem;
 namespace mavloc {
 namespace {
 
-#define REQUIRE_SHARED_DATA() \
-  if (!testing::HasSharedData()) GTEST_SKIP() << "../shared/data is absent"
-
 constexpr const char* kHeader =
     "#ts,tag_rows,tag_cols,tag_size,tag_spacing,kp_x,kp_y,p_x,p_y,p_z,tag_id,corner_idx\n";
 

@@ -19,9 +19,6 @@ namespace fs = std::filesystem;
 namespace mavloc {
 namespace {
 
-#define REQUIRE_SHARED_DATA() \
-  if (!testing::HasSharedData()) GTEST_SKIP() << "../shared/data is absent"
-
 std::string Data() { return testing::SharedDataDir(); }
 
 TEST(AprilgridLogImport, RealImuAprilLogWithEurocExtrinsics) {

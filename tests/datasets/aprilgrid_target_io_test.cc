@@ -14,9 +14,6 @@
 namespace mavloc {
 namespace {
 
-#define REQUIRE_SHARED_DATA() \
-  if (!testing::HasSharedData()) GTEST_SKIP() << "../shared/data is absent"
-
 void ExpectEuroc6x6(const AprilgridTarget& t) {
   EXPECT_EQ(t.tag_rows, 6);
   EXPECT_EQ(t.tag_cols, 6);

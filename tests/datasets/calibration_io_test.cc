@@ -19,9 +19,6 @@ namespace fs = std::filesystem;
 namespace mavloc {
 namespace {
 
-#define REQUIRE_SHARED_DATA() \
-  if (!testing::HasSharedData()) GTEST_SKIP() << "../shared/data is absent"
-
 std::string Data() { return testing::SharedDataDir(); }
 
 // EuRoC's official T_BS of cam0 and cam1 (euroc_v1_01_easy/mav0/cam{0,1}/sensor.yaml).

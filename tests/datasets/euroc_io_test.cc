@@ -18,9 +18,6 @@ namespace {
 
 std::string Euroc() { return testing::SharedDataDir() + "/euroc_v1_01_easy"; }
 
-#define REQUIRE_SHARED_DATA() \
-  if (!testing::HasSharedData()) GTEST_SKIP() << "../shared/data is absent"
-
 TEST(EurocReader, LoadsTheV101EasyExcerpt) {
   REQUIRE_SHARED_DATA();
   const Dataset d = ReadEurocDataset(Euroc());

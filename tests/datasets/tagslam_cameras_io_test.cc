@@ -15,9 +15,6 @@
 namespace mavloc {
 namespace {
 
-#define REQUIRE_SHARED_DATA() \
-  if (!testing::HasSharedData()) GTEST_SKIP() << "../shared/data is absent"
-
 std::vector<TagslamCamera> ReadTest(const std::string& test) {
   const std::string dir = testing::SharedDataDir() + "/tagslam/" + test;
   return ReadTagslamCameras(dir + "/cameras.yaml", dir + "/camera_poses.yaml");

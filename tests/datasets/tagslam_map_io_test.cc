@@ -15,9 +15,6 @@
 namespace mavloc {
 namespace {
 
-#define REQUIRE_SHARED_DATA() \
-  if (!testing::HasSharedData()) GTEST_SKIP() << "../shared/data is absent"
-
 std::string TestFile(const std::string& test) {
   return testing::SharedDataDir() + "/tagslam/" + test + "/tagslam.yaml";
 }

@@ -22,9 +22,6 @@ LogTopicSpec Spec(const std::string& path, const std::string& topic) {
   return spec;
 }
 
-#define REQUIRE_SHARED_DATA() \
-  if (!testing::HasSharedData()) GTEST_SKIP() << "../shared/data is absent"
-
 std::string Ulog(const std::string& name) { return testing::SharedDataDir() + "/px4_ulog/" + name; }
 
 std::string ReadText(const std::string& path) {

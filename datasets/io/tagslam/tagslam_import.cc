@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "core/errors.h"
+#include "core/stamp_rate.h"
 #include "datasets/io/rosbag/rosbag_reader.h"
 #include "datasets/io/tagslam/tagslam_trajectories.h"
 #include "datasets/io/tum_io.h"
@@ -108,15 +109,6 @@ void ReadTrajectories(const TagslamImportOptions& options, const std::string& ri
                   "O (the odometry's own frame), rig body = odometry body * T_body_odom^-1",
                   OdometryOfBody(ReadRosbagTrajectory(spec), odometry.T_body_odom), out);
   }
-}
-
-// Frame rate from the median interval between distinct stamps (0 for fewer than two).
-double RateFromStamps(const std::vector<TimeNs>& t_ns) {
-  if (t_ns.size() < 2) return 0.0;
-  std::vector<TimeNs> dt;
-  for (size_t i = 1; i < t_ns.size(); ++i) dt.push_back(t_ns[i] - t_ns[i - 1]);
-  std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
-  return dt[dt.size() / 2] > 0 ? 1e9 / static_cast<double>(dt[dt.size() / 2]) : 0.0;
 }
 
 std::string UsableWhyNot(const TagslamCamera& camera) {
@@ -240,7 +232,7 @@ TagslamImport ImportTagslamTest(const TagslamImportOptions& options) {
     for (const TagObservation& observation : kept)
       if (stamps.empty() || stamps.back() != observation.t_ns) stamps.push_back(observation.t_ns);
     for (TimeNs t : stamps) camera.frames.push_back({t, ""});
-    camera.rate_hz = RateFromStamps(stamps);
+    camera.rate_hz = MedianRateHz(stamps);
     report.frames = static_cast<long>(stamps.size());
     if (report.outside_image > 0)
       out.notes.push_back(fmt::format(
