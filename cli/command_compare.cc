@@ -8,13 +8,17 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "cli/option_checks.h"
+#include "cli/output_folder.h"
 #include "core/errors.h"
 #include "core/progress.h"
 #include "datasets/io/euroc_io.h"
 #include "datasets/io/log_reader.h"
 #include "evaluation/comparison.h"
+#include "evaluation/crlb/crlb_report.h"
 #include "evaluation/report_figures.h"
 #include "evaluation/report_writer.h"
+#include "evaluation/truth_checks.h"
 
 namespace mavloc::cli {
 
@@ -38,9 +42,8 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       ->excludes(scenario);
   command->add_option("--estimators", args->estimators,
                       "Comma-separated estimator names (default: every estimator that applies)");
-  command->add_option("--seed", args->seed, "Scenario seed")->capture_default_str();
-  command->add_option("--duration", args->duration_s, "Scenario duration in seconds")
-      ->check(CLI::PositiveNumber);
+  AddSeedOption(command, &args->seed, "Scenario seed");
+  AddScenarioDurationOption(command, &args->duration_s, "Scenario duration in seconds");
   command->add_option("--set", args->settings, "Scenario setting key=value (repeatable)");
   command->add_option("--option", args->options,
                       "Estimator option estimator:key=value or key=value for all (repeatable)");
@@ -54,10 +57,37 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
                       "instead of the ground truth: for logs without ground truth. The reference "
                       "is an estimate, not a truth");
   command->add_option("--max-dt", args->max_dt_s, "Association tolerance in seconds")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveFinite())
       ->capture_default_str();
   command->callback([args, exit_code] {
+    const bool reference_is_estimator =
+        !args->reference.empty() && FindEstimator(args->reference) != nullptr;
+    std::vector<std::string> names;
+    const bool explicit_list = !args->estimators.empty();
+    if (explicit_list) {
+      names = SplitList(args->estimators);
+      for (const auto& name : names)
+        if (!FindEstimator(name))
+          throw InputError("unknown estimator '" + name + "' (see `mavloc list`)");
+    } else {
+      for (const auto& entry : EstimatorRegistry()) names.push_back(entry.name);
+    }
+    if (reference_is_estimator) {  // the reference runs first, whether listed or not
+      names.erase(std::remove(names.begin(), names.end(), args->reference), names.end());
+      names.insert(names.begin(), args->reference);
+    }
+    // Estimator options: "name:key=value" for one estimator, "key=value" for every estimator that
+    // has the option; unknown names and keys are refused before anything runs.
+    std::map<std::string, EstimatorOptions> per_estimator =
+        EstimatorOptionsFor(args->options, names);
+    StagedFolder report(args->report, FolderKind::kReport);
+
     Dataset dataset;
+    if (!args->dataset.empty() && !args->settings.empty())
+      throw InputError("--set " + args->settings.front() +
+                       ": scenario settings apply to --scenario, not to --dataset");
+    if (!args->dataset.empty() && args->duration_s > 0)
+      throw InputError("--duration: applies to --scenario, not to --dataset");
     if (!args->dataset.empty()) {
       ReportProgress("compare", "reading " + args->dataset);
       dataset = ReadEurocDataset(args->dataset);
@@ -73,8 +103,7 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       throw InputError(args->dataset, 0, "",
                        "dataset has no ground truth to compare against: name a reference with "
                        "--reference ESTIMATOR (e.g. smoother) or --reference TRAJECTORY_FILE");
-    const bool reference_is_estimator =
-        !args->reference.empty() && FindEstimator(args->reference) != nullptr;
+    if (args->reference.empty()) RequireUsableGroundTruth(dataset);
     std::optional<ComparisonReference> reference;
     if (!args->reference.empty() && !reference_is_estimator) {
       if (const auto log_topic = ParseLogTopicSpec(args->reference))
@@ -86,44 +115,13 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
         reference = ReferenceFromTrajectory(args->reference, ReadTrajectoryFile(args->reference));
     }
 
-    // Estimator options: "name:key=value" for one estimator, "key=value" for all.
-    std::map<std::string, EstimatorOptions> per_estimator;
-    std::vector<std::string> global;
-    for (const auto& item : args->options) {
-      const auto colon = item.find(':');
-      const auto eq = item.find('=');
-      if (colon != std::string::npos && (eq == std::string::npos || colon < eq)) {
-        const auto kv = ParseKeyValues({item.substr(colon + 1)}, "--option");
-        for (const auto& [k, v] : kv) per_estimator[item.substr(0, colon)].Set(k, v);
-      } else {
-        global.push_back(item);
-      }
-    }
-    const auto global_values = ParseKeyValues(global, "--option");
-
-    std::vector<std::string> names;
-    const bool explicit_list = !args->estimators.empty();
-    if (explicit_list) {
-      names = SplitList(args->estimators);
-      for (const auto& name : names)
-        if (!FindEstimator(name))
-          throw InputError("unknown estimator '" + name + "' (see `mavloc list`)");
-    } else {
-      for (const auto& entry : EstimatorRegistry()) names.push_back(entry.name);
-    }
-    if (reference_is_estimator) {  // the reference runs first, whether listed or not
-      names.erase(std::remove(names.begin(), names.end(), args->reference), names.end());
-      names.insert(names.begin(), args->reference);
-    }
-
     EvaluationOptions evaluation_options;
     evaluation_options.align = *ParseAlignmentMode(args->align);
     evaluation_options.max_dt_s = args->max_dt_s;
     std::vector<EstimatorEvaluation> evaluations;
+    std::vector<std::string> left_out;  // "name (reason)" of estimators that do not apply
     for (size_t i = 0; i < names.size(); ++i) {
-      EstimatorOptions options = per_estimator[names[i]];
-      for (const auto& [k, v] : global_values)
-        if (!options.Has(k)) options.Set(k, v);
+      const EstimatorOptions& options = per_estimator[names[i]];
       ReportProgress("compare",
                      std::to_string(i + 1) + "/" + std::to_string(names.size()) + " " + names[i]);
       evaluation_options.reference = reference ? &*reference : nullptr;
@@ -140,11 +138,17 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
         evaluation.ate.reset();
         evaluation.is_reference = true;
       }
-      if (!evaluation.ran && !explicit_list)
-        continue;  // not applicable: left out of the default table
+      if (!evaluation.ran && !explicit_list) {  // not applicable: left out of the default table,
+        left_out.push_back(names[i] + " (" + evaluation.skipped_reason + ")");  // with a word
+        continue;
+      }
       evaluations.push_back(std::move(evaluation));
     }
-    if (evaluations.empty()) throw InputError("no estimator applies to this dataset");
+    if (evaluations.empty()) {
+      std::string reasons;
+      for (const auto& entry : left_out) reasons += (reasons.empty() ? "" : "; ") + entry;
+      throw InputError("no estimator applies to this dataset: " + reasons);
+    }
 
     const std::string title = dataset.scenario.empty() ? dataset.name : dataset.scenario;
     const std::string table = ComparisonMarkdownTable(evaluations);
@@ -156,6 +160,19 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
         "mavloc compare on %s against %s (mean absolute %s per quantity; ATE alignment %s)\n\n%s",
         title.c_str(), against.c_str(), reference ? "difference" : "error", args->align.c_str(),
         table.c_str());
+    std::string left_out_line;
+    for (const auto& entry : left_out) left_out_line += (left_out_line.empty() ? "" : "; ") + entry;
+    if (!left_out_line.empty()) {
+      left_out_line = "Not applicable to this dataset: " + left_out_line + ".\n";
+      std::printf("\n%s", left_out_line.c_str());
+    }
+    // Issue 15: the Cramér–Rao bound beside the errors on simulated datasets.
+    std::optional<CrlbReport> crlb;
+    if (!reference && !dataset.scenario.empty() && !dataset.ground_truth.empty()) {
+      ReportProgress("compare", "Cramér–Rao bound");
+      crlb = MakeCrlbReport(dataset, evaluations, per_estimator["smoother"]);
+      if (crlb->available) std::printf("\n%s", crlb->text.c_str());
+    }
 
     ReportFiles files;
     files.json["dataset"] = dataset.root.empty() ? dataset.name : dataset.root;
@@ -193,12 +210,20 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
           "Mean absolute error per quantity (angles in degrees), ATE RMSE after `" + args->align +
           "` alignment, wall-clock runtime, and frames without a solution.\n\n" + table;
     }
+    if (crlb) {
+      files.json["cramer_rao"] = crlb->json;
+      files.markdown += "\n" + crlb->markdown;
+    }
+    if (!left_out_line.empty()) files.markdown += "\n" + left_out_line;
+    files.json["not_applicable"] = left_out;
     files.extra["errors.csv"] = ErrorsCsv(evaluations);
     files.extra.merge(ComparisonTrajectoryFiles(dataset, evaluations));
-    WriteReportFolder(args->report, files);
+    WriteReportFolder(report.path(), files);
+    const FigureOutcome figures = WriteReportFigures(report.path());
+    report.Commit();
     std::printf("\nreport written to %s/ (report.md, report.json, errors.csv, trajectories)\n",
                 args->report.c_str());
-    std::printf("%s\n", DescribeFigureOutcome(WriteReportFigures(args->report)).c_str());
+    std::printf("%s\n", report.ForUser(DescribeFigureOutcome(figures)).c_str());
     *exit_code = 0;
   });
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/progress.h"
@@ -45,16 +46,20 @@ void RegisterDetectTags(CLI::App& app, int* exit_code) {
                    "Tag family (tag36h11, ..., aprilgrid = Kalibr's tag36h11 with a 2-bit border)")
       ->capture_default_str();
   command->add_option("--decimate", args->detector.decimate, "quad_decimate (>= 1)")
+      ->check(FiniteRange(1.0, 64.0))
       ->capture_default_str();
   command->add_option("--threads", args->detector.threads, "Detector threads")
+      ->check(WholeNumber(1, 256))
       ->capture_default_str();
   command
       ->add_option("--refine-edges", args->detector.refine_edges,
                    "refine_edges (0/1; libapriltag 3.3.0's is biased, see README)")
       ->capture_default_str();
   command->add_option("--sigma", args->detector.sigma, "quad_sigma: blur before segmentation (px)")
+      ->check(FiniteRange(0.0, 100.0, "px"))
       ->capture_default_str();
   command->add_option("--sharpening", args->detector.decode_sharpening, "decode_sharpening")
+      ->check(FiniteRange(0.0, 100.0))
       ->capture_default_str();
   command->add_flag(
       "--raw", args->detector.raw_output,

@@ -5,6 +5,7 @@
 // mean and standard deviation over runs); --out DIR writes the report folder of eval_report.h and
 // its figures (evaluation/report_figures.h); --json FILE writes eval.json alone.
 #include <fmt/format.h>
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,10 +14,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "cli/commands.h"
 #include "cli/eval_report.h"
+#include "cli/option_checks.h"
+#include "cli/output_folder.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "datasets/io/log_reader.h"
@@ -41,7 +45,8 @@ struct Args {
   bool align_given = false;  // --align on the command line
   double delta = 1.0, t_max_diff_s = 0.01, t_offset_s = 0.0;
   std::vector<double> rel_lengths_m;
-  // Options of `mavloc eval` before issue 13 (still accepted).
+  // Options of `mavloc eval` before issue 13 (still accepted). --delta, --t-max-diff, --t-offset
+  // and --rel-lengths are checked in ProtocolFromArgs; the others by their CLI11 validator.
   double max_dt_s = -1.0;
   std::vector<double> rpe_distances_m, rpe_times_s;
 };
@@ -231,44 +236,11 @@ EvalRun EvaluateRun(const std::string& file, const LoadedTrajectory& estimate,
   return run;
 }
 
-// Writes every file into "<dir>.tmp-<pid>" and renames it to dir: nothing is left at dir on
-// error. An existing dir is replaced only when it is empty or an earlier eval report.
-void WriteFolderAtomically(const std::string& dir,
-                           const std::map<std::string, std::string>& files) {
-  fs::path target(dir);
-  while (!target.empty() && target.filename().empty()) target = target.parent_path();
-  const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  if (!fs::is_directory(parent))
-    throw InputError(dir, 0, "",
-                     "the output's parent folder '" + parent.string() + "' does not exist");
-  std::error_code error;
-  const bool exists = fs::exists(target);
-  if (exists && !fs::is_directory(target))
-    throw InputError(dir, 0, "", "exists and is not a folder");
-  if (exists && !fs::is_empty(target, error) && !fs::exists(target / "eval.json"))
-    throw InputError(dir, 0, "", "folder exists, is not empty and is not an eval report");
-  const std::string suffix = std::to_string(::getpid());
-  const fs::path temporary = target.string() + ".tmp-" + suffix;
-  fs::remove_all(temporary, error);
-  try {
-    fs::create_directories(temporary);
-    for (const auto& [name, contents] : files)
-      WriteFileAtomically((temporary / name).string(), contents);
-    const fs::path old = target.string() + ".old-" + suffix;
-    if (exists) fs::rename(target, old);
-    fs::rename(temporary, target);
-    if (exists) fs::remove_all(old, error);
-  } catch (const fs::filesystem_error& e) {
-    fs::remove_all(temporary, error);
-    throw InputError(dir, 0, "", std::string("cannot write the report: ") + e.what());
-  } catch (...) {
-    fs::remove_all(temporary, error);
-    throw;
-  }
-}
-
 void Run(const Args& a) {
   EvaluationProtocol protocol = ProtocolFromArgs(a);
+  // The report folder is checked before any work and written whole (cli/output_folder.h).
+  std::optional<StagedFolder> out;
+  if (!a.out.empty()) out.emplace(a.out, FolderKind::kReport);
   if (!a.labels.empty() && a.labels.size() != a.est.size())
     throw InputError("--label", 0, "",
                      fmt::format("given {} times for {} --est: give one label per --est",
@@ -358,14 +330,16 @@ void Run(const Args& a) {
         std::printf("diagnostic: %s%s: %s\n", e.label.c_str(),
                     r.run > 0 ? fmt::format(" run {}", r.run).c_str() : "", message.c_str());
   if (!a.json.empty()) WriteFileAtomically(a.json, json.dump(2) + "\n");
-  if (!a.out.empty()) {
-    WriteFolderAtomically(a.out, EvalReportFiles(report));
+  if (out) {
+    for (const auto& [name, contents] : EvalReportFiles(report))
+      WriteFileAtomically((fs::path(out->path()) / name).string(), contents);
+    const FigureOutcome figures = WriteReportFigures(out->path());
+    out->Commit();
     std::printf(
         "report: %s (eval.md, eval.tex, eval.json, truth.tum, estimates, "
         "errors_over_time.csv, relative_errors.csv)\n",
         a.out.c_str());
-    const FigureOutcome figures = WriteReportFigures(a.out);
-    std::printf("%s\n", DescribeFigureOutcome(figures).c_str());
+    std::printf("%s\n", out->ForUser(DescribeFigureOutcome(figures)).c_str());
   }
 }
 
@@ -400,6 +374,7 @@ void RegisterEval(CLI::App& app, int* exit_code) {
   command
       ->add_option("--n-to-align", a->n_to_align,
                    "Estimate the alignment on the first N pairs (-1: all; evo --n_to_align)")
+      ->check(WholeNumber(-1, 1'000'000'000'000))
       ->capture_default_str();
   command->add_flag("--align-origin", a->align_origin,
                     "Align the first poses (evo --align_origin)");
@@ -425,9 +400,12 @@ void RegisterEval(CLI::App& app, int* exit_code) {
   command->add_option("--out", a->out,
                       "Write the report folder (eval.md, eval.tex, eval.json, ...)");
   command->add_option("--json", a->json, "Also write eval.json to this file");
-  command->add_option("--max-dt", a->max_dt_s, "Same as --t-max-diff (older name)");
-  command->add_option("--rpe-distance", a->rpe_distances_m, "Extra RPE deltas in metres");
-  command->add_option("--rpe-time", a->rpe_times_s, "Extra RPE deltas in seconds");
+  command->add_option("--max-dt", a->max_dt_s, "Same as --t-max-diff (older name)")
+      ->check(PositiveFinite());
+  command->add_option("--rpe-distance", a->rpe_distances_m, "Extra RPE deltas in metres")
+      ->check(PositiveFinite());
+  command->add_option("--rpe-time", a->rpe_times_s, "Extra RPE deltas in seconds")
+      ->check(PositiveFinite());
   command->callback([a, exit_code, command] {
     a->align_given = command->get_option("--align")->count() > 0;
     Run(*a);

@@ -5,6 +5,8 @@
 #include <cstdio>
 
 #include "cli/commands.h"
+#include "cli/output_folder.h"
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "datasets/io/aprilgrid_log_import.h"
 #include "datasets/io/euroc_io.h"
@@ -57,6 +59,8 @@ void RegisterImportAprilgrid(CLI::App& app, int* exit_code) {
     const AprilgridLogImport result = ImportAprilgridLog(args->inputs);
     const double read_s = std::chrono::duration<double>(Clock::now() - start).count();
     ReportProgress("import-aprilgrid", "writing " + args->out);
+    // Its staging folder is removed if the command is interrupted (core/interrupt.h).
+    const TemporaryPathGuard staging(StagingPathFor(args->out));
     WriteEurocDatasetAtomically(result.dataset, args->out, {{"import.yaml", result.ImportYaml()}},
                                 args->force);
     const double total_s = std::chrono::duration<double>(Clock::now() - start).count();

@@ -4,6 +4,8 @@
 #include <cstdio>
 
 #include "cli/commands.h"
+#include "cli/output_folder.h"
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "datasets/io/euroc_io.h"
 #include "datasets/io/tagslam/tagslam_import.h"
@@ -45,6 +47,8 @@ void RegisterImportTagslam(CLI::App& app, int* exit_code) {
     ReportProgress("import-tagslam", "reading " + args->options.test_dir);
     const TagslamImport result = ImportTagslamTest(args->options);
     ReportProgress("import-tagslam", "writing " + args->out);
+    // Its staging folder is removed if the command is interrupted (core/interrupt.h).
+    const TemporaryPathGuard staging(StagingPathFor(args->out));
     WriteEurocDatasetAtomically(result.dataset, args->out, result.ExtraFiles(), args->force);
     std::printf("map: %zu known tags (%zu listed)\n", result.map.map.tags.size(),
                 result.map.listed_tags.size());

@@ -9,8 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/output_folder.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "core/stamp_rate.h"
 #include "datasets/io/calibration_io.h"
@@ -212,6 +214,8 @@ void ImportLog(const ImportArgs& args) {
   std::string import_yaml = "# written by mavloc log import\n";
   for (const auto& note : notes) import_yaml += "- \"" + note + "\"\n";
   ReportProgress("log import", "writing " + args.out);
+  // Its staging folder is removed if the command is interrupted (core/interrupt.h).
+  const TemporaryPathGuard staging(StagingPathFor(args.out));
   WriteEurocDatasetAtomically(dataset, args.out, {{"import.yaml", import_yaml}}, args.force);
   for (const auto& note : notes) std::printf("%s\n", note.c_str());
   std::printf("wrote %s\n", args.out.c_str());

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "core/errors.h"
 #include "core/random.h"
 #include "solver/laser/observability.h"
@@ -22,11 +23,12 @@ void RegisterObservability(CLI::App& app, int* exit_code) {
   auto order = std::make_shared<int>(2);
   auto L = std::make_shared<double>(0.3);
   command->add_option("system", *system, "System to analyse: laser")->required();
-  command->add_option("--states", *states, "Number of random states")->check(CLI::Range(1, 1000));
-  command->add_option("--seed", *seed, "Seed of the random states");
+  command->add_option("--states", *states, "Number of random states")->check(WholeNumber(1, 1000));
+  command->add_option("--seed", *seed, "Seed of the random states")
+      ->check(WholeNumber(0, 4294967295LL));
   command->add_option("--order", *order, "Highest Lie-derivative order (0..2)")
-      ->check(CLI::Range(0, 2));
-  command->add_option("--L", *L, "Laser offset L in metres")->check(CLI::PositiveNumber);
+      ->check(WholeNumber(0, 2));
+  command->add_option("--L", *L, "Laser offset L in metres")->check(PositiveAtMost(100.0, "m"));
   command->callback([=] {
     if (*system != "laser")
       throw InputError("observability: unknown system '" + *system + "' (known: laser)");

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "cli/commands.h"
+#include "cli/output_folder.h"
 #include "core/errors.h"
 #include "core/key_values.h"
 #include "core/progress.h"
@@ -24,7 +25,12 @@ StereoPipelineOptions PipelineOptions(const KeyValues& settings) {
       "delta_z",  "delta_d",     "clearance",       "min_cluster_points", "voxel",
       "memory_s", "keep_radius", "pixel_stride",    "speckle_window",     "speckle_range"};
   for (const auto& [key, value] : settings) {
-    if (kKeys.count(key) == 0) throw InputError("obstacles --set: unknown setting '" + key + "'");
+    if (kKeys.count(key) == 0) {
+      std::string known;
+      for (const auto& k : kKeys) known += (known.empty() ? "" : ", ") + k;
+      throw InputError("--set " + key + "=" + value + ": obstacles has no setting '" + key +
+                       "' (known: " + known + ")");
+    }
   }
   StereoPipelineOptions o;
   const std::string matcher = GetStringSetting(settings, "matcher", "bm");
@@ -104,10 +110,19 @@ void RegisterObstacles(CLI::App& app, int* exit_code) {
                       "Estimator option key=value for --pose-source ESTIMATOR (repeatable)");
   command->callback([args, exit_code] {
     const StereoPipelineOptions options = PipelineOptions(ParseKeyValues(args->settings, "--set"));
+    const KeyValues estimator_options = ParseKeyValues(args->options, "--option");
+    if (args->pose_source == "gt" && !estimator_options.empty())
+      throw InputError("--option " + args->options.front() +
+                       ": estimator options need --pose-source ESTIMATOR (the poses come from the "
+                       "ground truth)");
+    if (const EstimatorEntry* entry = FindEstimator(args->pose_source))
+      CheckEstimatorOptions(*entry, EstimatorOptions(estimator_options));
+    // The report folder is checked before any work and written whole (cli/output_folder.h).
+    StagedFolder report(args->report, FolderKind::kReport);
     ReportProgress("obstacles", "reading " + args->dataset);
     const Dataset dataset = ReadEurocDataset(args->dataset);
     const std::vector<StampedPose> poses =
-        PoseSource(dataset, args->pose_source, ParseKeyValues(args->options, "--option"));
+        PoseSource(dataset, args->pose_source, estimator_options);
     const StereoObstacleRun run =
         RunStereoObstacleDetection(dataset, poses, args->pose_source, options);
     std::string reason;
@@ -117,7 +132,8 @@ void RegisterObstacles(CLI::App& app, int* exit_code) {
     std::optional<ObstacleEvaluation> evaluation;
     if (room && !dataset.ground_truth.empty())
       evaluation = EvaluateObstacleAlerts(run, *room, GroundTruthPoses(dataset));
-    WriteReportFolder(args->report, ObstacleReport(dataset.name, run, evaluation));
+    WriteReportFolder(report.path(), ObstacleReport(dataset.name, run, evaluation));
+    report.Commit();
     int alerts = 0;
     for (const ObstacleFrame& frame : run.frames) alerts += frame.check.alert;
     std::printf("wrote %s: %d alerts in %zu frames", args->report.c_str(), alerts,

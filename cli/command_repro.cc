@@ -2,6 +2,8 @@
 #include <cstdio>
 
 #include "cli/commands.h"
+#include "cli/option_checks.h"
+#include "cli/output_folder.h"
 #include "core/errors.h"
 #include "evaluation/report_figures.h"
 #include "evaluation/repro/repro.h"
@@ -19,10 +21,12 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<Args>();
   command->add_option("name", args->name, "Reproduction name")->required();
   command->add_option("--runs", args->runs, "Monte-Carlo runs (default: the reproduction's own)")
-      ->check(CLI::PositiveNumber);
-  command->add_option("--seed", args->seed, "First seed; run k uses seed + k")
-      ->capture_default_str();
-  command->add_option("--report", args->report, "Report folder (created)")->required();
+      ->check(WholeNumber(1, 100000));
+  AddSeedOption(command, &args->seed, "First seed; run k uses seed + k");
+  command
+      ->add_option("--report", args->report,
+                   "Report folder: created, or replaced when empty or an earlier report")
+      ->required();
   command->add_option("--set", args->settings, "Setting key=value (repeatable)");
   command->callback([args, exit_code] {
     const ReproEntry* entry = FindRepro(args->name);
@@ -34,10 +38,15 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
     ReproOptions options;
     if (args->runs > 0) options.runs = args->runs;
     options.seed = args->seed;
-    options.report_dir = args->report;
     options.settings = ParseKeyValues(args->settings, "--set");
+    // Written whole into a fresh folder, then renamed into place (cli/output_folder.h).
+    StagedFolder report(args->report, FolderKind::kReport);
+    options.report_dir = report.path();
     *exit_code = entry->run(options);
-    std::printf("%s\n", DescribeFigureOutcome(WriteReportFigures(options.report_dir)).c_str());
+    const FigureOutcome figures = WriteReportFigures(report.path());
+    report.Commit();
+    std::printf("report written to %s/\n%s\n", args->report.c_str(),
+                report.ForUser(DescribeFigureOutcome(figures)).c_str());
   });
 }
 

@@ -11,8 +11,12 @@
 
 #include "cli/commands.h"
 #include "core/errors.h"
+#include "core/interrupt.h"
 
 int main(int argc, char** argv) {
+  // SIGINT/SIGTERM: temporary outputs removed, exit 130/143 (core/interrupt.h). First, before
+  // any library starts a thread, so that every thread inherits the blocked signals.
+  mavloc::InstallInterruptHandler();
   // Ceres logs every rejected trust-region step ("Step failed to evaluate": a trial pose put a
   // laser spot behind its laser) as a warning; the smoother reports its own statistics, so only
   // Ceres' errors are printed unless MAVLOC_CERES_WARNINGS is set.
@@ -40,6 +44,7 @@ int main(int argc, char** argv) {
   mavloc::cli::RegisterFigures(app, &exit_code);
   mavloc::cli::RegisterImportTagslam(app, &exit_code);
   mavloc::cli::RegisterLog(app, &exit_code);
+  mavloc::cli::RegisterSweep(app, &exit_code);
   // An unknown first word is named in the message (CLI11 would only say a command is required).
   const auto subcommands = app.get_subcommands({});
   const bool known_command =

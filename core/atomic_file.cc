@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "core/errors.h"
+#include "core/interrupt.h"
 
 namespace mavloc {
 
@@ -16,9 +17,13 @@ void WriteFileAtomically(const std::string& path, const std::string& contents) {
   if (!std::filesystem::is_directory(folder))
     throw InputError(path, 0, "", "output folder '" + folder.string() + "' does not exist");
   const std::string temporary = path + ".tmp-" + std::to_string(::getpid());
+  const TemporaryPathGuard guard(temporary);  // removed if the process is interrupted
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(path, 0, "", "cannot open for writing");
+    if (!out) {
+      std::remove(temporary.c_str());
+      throw InputError(path, 0, "", "cannot open for writing");
+    }
     out << contents;
     out.flush();
     if (!out) {

@@ -1,4 +1,5 @@
 // Writes a whole file or nothing: the text goes to "<path>.tmp-<pid>" which is renamed over path.
+// The temporary file is registered with core/interrupt.h, so SIGINT/SIGTERM remove it too.
 #pragma once
 
 #include <string>

@@ -102,6 +102,14 @@ std::optional<TrajectoryEvaluation> EvaluateTrajectory(const std::vector<Stamped
                             protocol.max_dt_s, protocol.time_offset_s));
     return std::nullopt;
   }
+  // One pose is not a trajectory: any alignment fits it exactly and the "error" is zero
+  // (issue 17, class 4).
+  if (pairs.size() < 2) {
+    SetWhy(why, fmt::format("only 1 pose pair ({} estimate and {} truth poses): a trajectory "
+                            "evaluation needs at least 2",
+                            estimate.size(), truth.size()));
+    return std::nullopt;
+  }
 
   // 2. Alignment.
   if (protocol.align_origin && protocol.alignment != AlignmentMode::kNone) {

@@ -1,6 +1,8 @@
 // The list of estimators known to mavloc, in the order reports show them. Adding an estimator is
 // one entry here.
+#include <initializer_list>
 #include <memory>
+#include <set>
 
 #include "solver/estimator.h"
 #include "solver/estimators/gravity_ekf_estimator.h"
@@ -18,39 +20,125 @@
 namespace mavloc {
 
 namespace {
+
+// An entry whose create rejects undeclared options (CheckEstimatorOptions) before constructing,
+// and hands the declared keys to the getters (EstimatorOptions::DeclareFor).
 template <typename T>
-EstimatorEntry Entry(std::string name, std::string description) {
-  return {std::move(name), std::move(description),
-          [](const EstimatorOptions& options) { return std::make_unique<T>(options); }};
+EstimatorEntry Entry(std::string name, std::string description, std::set<std::string> options,
+                     std::vector<std::string> prefixes = {}) {
+  EstimatorEntry entry{std::move(name), std::move(description), nullptr, std::move(options),
+                       std::move(prefixes)};
+  entry.create = [entry_name =
+                      entry.name](const EstimatorOptions& given) -> std::unique_ptr<Estimator> {
+    const EstimatorEntry* self = FindEstimator(entry_name);
+    CheckEstimatorOptions(*self, given);
+    EstimatorOptions declared = given;
+    declared.DeclareFor(self);
+    return std::make_unique<T>(declared);
+  };
+  return entry;
 }
+
+std::set<std::string> Keys(std::initializer_list<std::set<std::string>> groups) {
+  std::set<std::string> keys;
+  for (const auto& group : groups) keys.insert(group.begin(), group.end());
+  return keys;
+}
+
+// Option groups read by shared helpers (the function that reads them in brackets).
+// Gravity EKF (GravityEkfOptionsFor, solver/estimators/gravity_ekf_estimator.cc).
+const std::set<std::string> kGravityEkf = {"gyro_noise_density", "accel_noise_density",
+                                           "accel_dynamics_sigma", "estimate_gyro_bias",
+                                           "gyro_bias_sigma"};
+// Board-map initialisation (ParseBoardInitOptions, solver/board/board_world.cc).
+const std::set<std::string> kBoardInit = {"gravity_init_s", "gravity_min_tags"};
+// Roll/pitch source (ParseRollPitchSourceOptions, solver/pixhawk/roll_pitch_source.cc).
+const std::set<std::string> kRollPitchSource = {"attitude", "attitude_error_deg",
+                                                "attitude_error_tau_s", "attitude_error_seed",
+                                                "image_delay_ms"};
+// Upright 2-point RANSAC (ParseUpright2pSettings, solver/estimators/upright_2p_estimator.cc).
+const std::set<std::string> kUpright2p = {"threshold_px", "ransac", "max_iterations", "min_inliers",
+                                          "min_inlier_ratio"};
+
 }  // namespace
 
 const std::vector<EstimatorEntry>& EstimatorRegistry() {
   static const std::vector<EstimatorEntry> kEntries = {
-      Entry<ImuDeadReckoning>(
-          "imu-dead-reckoning",
-          "IMU strapdown integration (RK4) from the true initial state; drifts"),
+      Entry<ImuDeadReckoning>("imu-dead-reckoning",
+                              "IMU strapdown integration (RK4) from the true initial state; drifts",
+                              {"rate_hz"}),
       Entry<GravityEkfEstimator>("gravity-ekf",
-                                 "three-point paper IV: roll, pitch from the IMU (gravity EKF)"),
+                                 "three-point paper IV: roll, pitch from the IMU (gravity EKF)",
+                                 kGravityEkf),
       Entry<TwoPointEstimator>("two-point",
-                               "three-point paper IV-A: pose from IMU roll/pitch, 2 bearings, D"),
-      Entry<ThreePointEstimator>("three-point",
-                                 "three-point paper IV-B/C: roll/pitch refined by triangle angles"),
+                               "three-point paper IV-A: pose from IMU roll/pitch, 2 bearings, D",
+                               Keys({kGravityEkf, {"D"}})),
+      Entry<ThreePointEstimator>(
+          "three-point", "three-point paper IV-B/C: roll/pitch refined by triangle angles",
+          Keys({kGravityEkf,
+                {"D", "bearing_sigma_deg", "gamma1_deg", "gamma2_deg", "max_correction_deg",
+                 "min_filter_updates", "true_angles"}})),
       Entry<PnpEstimator>("pnp",
-                          "PIXHAWK 3.1/7.2 baseline: vision-only pose from all marker corners"),
+                          "PIXHAWK 3.1/7.2 baseline: vision-only pose from all marker corners",
+                          Keys({kBoardInit, {"image_delay_ms"}})),
       Entry<Upright2pEstimator>("upright-2p",
-                                "PIXHAWK 3.2: IMU roll/pitch + known-vertical 2-point RANSAC + LS"),
-      Entry<PixhawkKfEstimator>("pixhawk-kf",
-                                "PIXHAWK 3.3/5.1: outlier rejection + 4 x 1-D CV Kalman filters"),
+                                "PIXHAWK 3.2: IMU roll/pitch + known-vertical 2-point RANSAC + LS",
+                                Keys({kUpright2p, kRollPitchSource, kGravityEkf, kBoardInit})),
+      Entry<PixhawkKfEstimator>(
+          "pixhawk-kf", "PIXHAWK 3.3/5.1: outlier rejection + 4 x 1-D CV Kalman filters",
+          Keys(
+              {kUpright2p,
+               kRollPitchSource,
+               kGravityEkf,
+               kBoardInit,
+               {"source", "attitude_check_deg", "use_measured_dt", "position_sigma_m",
+                "yaw_sigma_deg", "position_accel_density", "yaw_accel_density", "coast_limit_s"}})),
       Entry<LaserEkfEstimator>(
-          "laser-ekf", "laser paper 4/C: EKF on the observable modes d, v_o, roll, pitch, alpha"),
+          "laser-ekf", "laser paper 4/C: EKF on the observable modes d, v_o, roll, pitch, alpha",
+          {"camera", "init_error_min", "init_error_max", "init_seed", "bearing_sigma_deg",
+           "accel_noise_density", "gyro_noise_density", "gz_random_walk", "v_o_random_walk",
+           "normal_random_walk", "gate_sigmas", "bias_from_ground_truth", "lever_arm"}),
       Entry<TagPnpEstimator>("tag-pnp",
-                             "AprilTag paper III-A baseline: vision-only PnP on all tags"),
+                             "AprilTag paper III-A baseline: vision-only PnP on all tags",
+                             Keys({kBoardInit, {"camera"}})),
       Entry<TagEkfEstimator>(
-          "tag-ekf", "AprilTag paper II-III: 15-state EKF, per-tag updates, delay handling"),
+          "tag-ekf", "AprilTag paper II-III: 15-state EKF, per-tag updates, delay handling",
+          Keys(
+              {kBoardInit, {"init",           "camera",           "use_tags",       "accel_var",
+                            "gyro_var",       "accel_bias_var",   "gyro_bias_var",  "position_var",
+                            "attitude_var",   "compensate_delay", "gate_chi2",      "delay_s",
+                            "init_pos_sigma", "init_vel_sigma",   "init_att_sigma", "init_ba_sigma",
+                            "init_bg_sigma",  "init_seed",        "init_p0_scale",  "rate_hz"}})),
       Entry<SmootherEstimator>("smoother",
                                "Ceres batch smoother: Forster preintegration + visual residuals, "
-                               "seeded by the closed-form/PnP estimators"),
+                               "seeded by the closed-form/PnP estimators",
+                               {"accel_bias_prior_m_s2",
+                                "bearing_sigma_deg",
+                                "calibration_covariance",
+                                "cameras",
+                                "covariance",
+                                "estimate_D",
+                                "estimate_extrinsics",
+                                "estimate_time_offset",
+                                "extrinsics_prior_deg",
+                                "extrinsics_prior_m",
+                                "graduated",
+                                "gravity_window_s",
+                                "gyro_bias_prior_deg_s",
+                                "keyframe_stride",
+                                "landmarks",
+                                "laser_sigma_deg",
+                                "loss",
+                                "loss_scale",
+                                "max_iterations",
+                                "max_time_offset_ms",
+                                "pixel_sigma_px",
+                                "relinearize",
+                                "seed",
+                                "threads",
+                                "time_offset_init_ms",
+                                "verbose"},
+                               {"seed."}),
   };
   return kEntries;
 }

@@ -280,36 +280,4 @@ CalibrationSource ReadCalibrationSource(const std::string& path, std::optional<i
   return source;
 }
 
-Pose YamlRigidTransform(const YAML::Node& node, const std::string& field, const std::string& path) {
-  const YAML::Node value = node[field];
-  if (!value) throw InputError(path, Line(node), field, "missing");
-  Eigen::Matrix4d T;
-  if (value.IsSequence() && value.size() == 4 && value[0].IsSequence()) {
-    for (int r = 0; r < 4; ++r) {
-      const YAML::Node row = value[r];
-      if (!row.IsSequence() || row.size() != 4)
-        throw InputError(path, Line(value), field, "expected 4 rows of 4 numbers");
-      for (int c = 0; c < 4; ++c) {
-        try {
-          T(r, c) = row[c].as<double>();
-        } catch (const YAML::Exception&) {
-          throw InputError(path, Line(row), field, "holds a value that is not a number");
-        }
-        if (!std::isfinite(T(r, c))) throw InputError(path, Line(row), field, "value not finite");
-      }
-    }
-  } else {
-    T = YamlTransform(node, field, path);
-  }
-  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
-  const double orthonormality = (R.transpose() * R - Eigen::Matrix3d::Identity()).norm();
-  if (orthonormality > 1e-5 || R.determinant() < 0)
-    throw InputError(path, Line(value), field,
-                     fmt::format("not a rigid transform (|R^T R - I| = {:.2g}, det {:.6g})",
-                                 orthonormality, R.determinant()));
-  if ((T.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-9)
-    throw InputError(path, Line(value), field, "last row is not (0, 0, 0, 1)");
-  return Pose::FromMatrix(T);
-}
-
 }  // namespace mavloc

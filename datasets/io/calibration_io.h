@@ -62,9 +62,4 @@ std::pair<std::optional<int>, std::string> SplitCameraPrefix(const std::string& 
 CalibrationSource ReadCalibrationSource(const std::string& path,
                                         std::optional<int> camera = std::nullopt);
 
-// A 4x4 rigid transform written as {rows: 4, cols: 4, data: [16]} (EuRoC, yac, OpenCV), a flat
-// list of 16, or 4 lists of 4 (Kalibr). The rotation must be orthonormal to 1e-5 and the last row
-// (0, 0, 0, 1).
-Pose YamlRigidTransform(const YAML::Node& node, const std::string& field, const std::string& path);
-
 }  // namespace mavloc

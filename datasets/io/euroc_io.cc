@@ -10,6 +10,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/physical_limits.h"
 #include "core/rotation.h"
 #include "datasets/io/text_table.h"
 #include "datasets/io/tum_io.h"
@@ -39,30 +40,48 @@ std::vector<TimeNs> Stamps(const TextTable& table, std::vector<long>* lines) {
   return t;
 }
 
+// rate_hz: 0 means "not stated" (mavloc writes it for imported logs whose rate is unknown).
+double RateHz(const YAML::Node& yaml, const std::string& path) {
+  return YamlDoubleIn(yaml, "rate_hz", path, 0.0, limits::kMaxRate_hz, "Hz");
+}
+
+// An image size in whole pixels, [1, limits::kMaxResolution_px].
+int ResolutionPx(const YAML::Node& yaml, double value, const char* which, const std::string& path) {
+  if (!(value >= 1.0 && value <= limits::kMaxResolution_px && value == std::floor(value)))
+    throw InputError(path, YamlLine(yaml["resolution"]), "resolution",
+                     fmt::format("{} {:g} is not a whole number of pixels in [1, {}]", which, value,
+                                 limits::kMaxResolution_px));
+  return static_cast<int>(value);
+}
+
 ImuSensor ReadImu(const fs::path& folder) {
   ImuSensor imu;
   imu.name = folder.filename().string();
   const std::string yaml_path = (folder / "sensor.yaml").string();
   if (fs::exists(yaml_path)) {
-    const YAML::Node yaml = LoadYamlFile(yaml_path);
-    if (yaml["T_BS"]) imu.T_B_S = Pose::FromMatrix(YamlTransform(yaml, "T_BS", yaml_path));
-    if (yaml["rate_hz"]) imu.rate_hz = YamlDouble(yaml, "rate_hz", yaml_path);
-    auto optional = [&](const char* key, double* out) {
-      if (yaml[key]) *out = YamlDouble(yaml, key, yaml_path);
+    const YAML::Node yaml = LoadYamlMap(yaml_path);
+    if (yaml["T_BS"]) imu.T_B_S = YamlRigidTransform(yaml, "T_BS", yaml_path);
+    if (yaml["rate_hz"]) imu.rate_hz = RateHz(yaml, yaml_path);
+    auto optional = [&](const char* key, double max, const char* unit, double* out) {
+      if (yaml[key]) *out = YamlDoubleIn(yaml, key, yaml_path, 0.0, max, unit);
     };
-    optional("gyroscope_noise_density", &imu.noise.gyroscope_noise_density);
-    optional("gyroscope_random_walk", &imu.noise.gyroscope_random_walk);
-    optional("accelerometer_noise_density", &imu.noise.accelerometer_noise_density);
-    optional("accelerometer_random_walk", &imu.noise.accelerometer_random_walk);
-    auto optional_sigma = [&](const char* key, std::optional<double>* out) {
-      if (!yaml[key]) return;
-      const double sigma = YamlDouble(yaml, key, yaml_path);
-      if (!(sigma >= 0.0))
-        throw InputError(fmt::format("{}: field {} must be >= 0 (got {})", yaml_path, key, sigma));
-      *out = sigma;
+    using limits::kMaxAccelNoise, limits::kMaxGyroNoise;
+    optional("gyroscope_noise_density", kMaxGyroNoise, "rad/s/sqrt(Hz)",
+             &imu.noise.gyroscope_noise_density);
+    optional("gyroscope_random_walk", kMaxGyroNoise, "rad/s^2/sqrt(Hz)",
+             &imu.noise.gyroscope_random_walk);
+    optional("accelerometer_noise_density", kMaxAccelNoise, "m/s^2/sqrt(Hz)",
+             &imu.noise.accelerometer_noise_density);
+    optional("accelerometer_random_walk", kMaxAccelNoise, "m/s^3/sqrt(Hz)",
+             &imu.noise.accelerometer_random_walk);
+    auto optional_sigma = [&](const char* key, double max, const char* unit,
+                              std::optional<double>* out) {
+      if (yaml[key]) *out = YamlDoubleIn(yaml, key, yaml_path, 0.0, max, unit);
     };
-    optional_sigma("gyroscope_bias_sigma", &imu.gyroscope_bias_sigma);
-    optional_sigma("accelerometer_bias_sigma", &imu.accelerometer_bias_sigma);
+    optional_sigma("gyroscope_bias_sigma", limits::kMaxGyroBias_rad_s, "rad/s",
+                   &imu.gyroscope_bias_sigma);
+    optional_sigma("accelerometer_bias_sigma", limits::kMaxAccelBias_m_s2, "m/s^2",
+                   &imu.accelerometer_bias_sigma);
   }
   imu.samples = ReadImuCsv((folder / "data.csv").string());
   return imu;
@@ -72,32 +91,56 @@ CameraSensor ReadCamera(const fs::path& folder) {
   CameraSensor camera;
   camera.name = folder.filename().string();
   const std::string yaml_path = (folder / "sensor.yaml").string();
-  const YAML::Node yaml = LoadYamlFile(yaml_path);
-  camera.T_B_C = Pose::FromMatrix(YamlTransform(yaml, "T_BS", yaml_path));
-  if (yaml["rate_hz"]) camera.rate_hz = YamlDouble(yaml, "rate_hz", yaml_path);
+  const YAML::Node yaml = LoadYamlMap(yaml_path);
+  camera.T_B_C = YamlRigidTransform(yaml, "T_BS", yaml_path);
+  if (yaml["rate_hz"]) camera.rate_hz = RateHz(yaml, yaml_path);
   const auto resolution = YamlDoubles(yaml, "resolution", yaml_path, 2);
+  const int width_px = ResolutionPx(yaml, resolution[0], "width", yaml_path);
+  const int height_px = ResolutionPx(yaml, resolution[1], "height", yaml_path);
   const auto intrinsics = YamlDoubles(yaml, "intrinsics", yaml_path, 4);
-  if (yaml["camera_model"] && yaml["camera_model"].as<std::string>() != "pinhole")
-    throw InputError(yaml_path, yaml["camera_model"].Mark().line + 1, "camera_model",
+  for (int i = 0; i < 4; ++i) {
+    const double lo = i < 2 ? 0.0 : -limits::kMaxPixelCoordinate;
+    const double hi = i < 2 ? limits::kMaxFocalLength_px : limits::kMaxPixelCoordinate;
+    if (!(intrinsics[i] > lo && intrinsics[i] <= hi))
+      throw InputError(yaml_path, YamlLine(yaml["intrinsics"]), "intrinsics",
+                       fmt::format("{} = {:g} is outside {}{}",
+                                   i == 0   ? "fu"
+                                   : i == 1 ? "fv"
+                                   : i == 2 ? "cu"
+                                            : "cv",
+                                   intrinsics[i], limits::RangeText(lo, hi, "px"),
+                                   i < 2 ? " (a focal length must be > 0)" : ""));
+  }
+  if (yaml["camera_model"] && YamlString(yaml, "camera_model", yaml_path) != "pinhole")
+    throw InputError(yaml_path, YamlLine(yaml["camera_model"]), "camera_model",
                      "only 'pinhole' is supported");
   DistortionModel model = DistortionModel::kNone;
   std::array<double, 4> coefficients{0, 0, 0, 0};
   if (yaml["distortion_model"]) {
-    const std::string name = yaml["distortion_model"].as<std::string>();
+    const std::string name = YamlString(yaml, "distortion_model", yaml_path);
     const auto parsed = ParseDistortionModel(name);
     if (!parsed)
-      throw InputError(yaml_path, yaml["distortion_model"].Mark().line + 1, "distortion_model",
+      throw InputError(yaml_path, YamlLine(yaml["distortion_model"]), "distortion_model",
                        "unknown model '" + name + "' (radial-tangential, equidistant or none)");
     model = *parsed;
     if (model != DistortionModel::kNone) {
       const auto k = YamlDoubles(yaml, "distortion_coefficients", yaml_path);
       if (k.size() < 4)
-        throw InputError(yaml_path, 0, "distortion_coefficients", "expected 4 values");
+        throw InputError(yaml_path, YamlLine(yaml["distortion_coefficients"]),
+                         "distortion_coefficients", "expected 4 values");
+      for (double k_i : k) {
+        if (!(std::abs(k_i) <= limits::kMaxDistortionCoefficient))
+          throw InputError(yaml_path, YamlLine(yaml["distortion_coefficients"]),
+                           "distortion_coefficients",
+                           fmt::format("{:g} is outside {}", k_i,
+                                       limits::RangeText(-limits::kMaxDistortionCoefficient,
+                                                         limits::kMaxDistortionCoefficient, "")));
+      }
       std::copy_n(k.begin(), 4, coefficients.begin());
     }
   }
   camera.model =
-      CameraModel(static_cast<int>(resolution[0]), static_cast<int>(resolution[1]),
+      CameraModel(width_px, height_px,
                   Eigen::Vector4d(intrinsics[0], intrinsics[1], intrinsics[2], intrinsics[3]),
                   model, coefficients);
   const std::string csv = (folder / "data.csv").string();
@@ -110,9 +153,24 @@ CameraSensor ReadCamera(const fs::path& folder) {
     table.RequireFields(table.rows[i], 2);
     const fs::path image = folder / "data" / table.rows[i].fields[1];
     camera.frames.push_back({t[i], image.string()});
-    if (!fs::exists(image)) camera.missing_images.push_back(image.string());
+    std::error_code error;  // a name the file system cannot hold (too long) is missing, not fatal
+    if (!fs::exists(image, error)) camera.missing_images.push_back(image.string());
   }
   return camera;
+}
+
+// Fields k, k+1, k+2 of a row, each within +-max_abs.
+Eigen::Vector3d Vector3In(const TextTable& table, const TextRow& row, size_t k, double max_abs,
+                          const char* unit) {
+  return {table.NumberIn(row, k, -max_abs, max_abs, unit),
+          table.NumberIn(row, k + 1, -max_abs, max_abs, unit),
+          table.NumberIn(row, k + 2, -max_abs, max_abs, unit)};
+}
+
+Eigen::Vector2d Vector2In(const TextTable& table, const TextRow& row, size_t k, double max_abs,
+                          const char* unit) {
+  return {table.NumberIn(row, k, -max_abs, max_abs, unit),
+          table.NumberIn(row, k + 1, -max_abs, max_abs, unit)};
 }
 
 std::vector<GroundTruthState> ReadGroundTruthCsv(const std::string& path) {
@@ -127,16 +185,22 @@ std::vector<GroundTruthState> ReadGroundTruthCsv(const std::string& path) {
     table.RequireFields(row, 8);
     GroundTruthState s;
     s.t_ns = t[i];
-    s.T_W_B.p = {table.Number(row, 1), table.Number(row, 2), table.Number(row, 3)};
-    Eigen::Quaterniond q = QuaternionFromWxyz(table.Number(row, 4), table.Number(row, 5),
-                                              table.Number(row, 6), table.Number(row, 7));
-    if (std::abs(q.norm() - 1.0) > 1e-3)
-      throw InputError(path, row.line, table.FieldName(4), "quaternion is not unit length");
+    s.T_W_B.p = Vector3In(table, row, 1, limits::kMaxPosition_m, "m");
+    const Eigen::Quaterniond q = QuaternionFromWxyz(table.Number(row, 4), table.Number(row, 5),
+                                                    table.Number(row, 6), table.Number(row, 7));
+    if (!(std::abs(q.norm() - 1.0) <= limits::kUnitNormTolerance))
+      throw InputError(path, row.line, table.FieldName(4),
+                       fmt::format("quaternion is not unit length (|q| = {:.6g}; accepted and "
+                                   "normalised within 1 +- {})",
+                                   q.norm(), limits::kUnitNormTolerance));
     s.T_W_B.q = q.normalized();
-    if (row.fields.size() >= 17) {
-      s.v_W = {table.Number(row, 8), table.Number(row, 9), table.Number(row, 10)};
-      s.b_g = {table.Number(row, 11), table.Number(row, 12), table.Number(row, 13)};
-      s.b_a = {table.Number(row, 14), table.Number(row, 15), table.Number(row, 16)};
+    // Pose-only rows (8 fields) leave v_W and the biases zero; IMU estimators that need the
+    // initial velocity detect that (imu-dead-reckoning says so).
+    if (row.fields.size() > 8) {
+      table.RequireFields(row, 17);
+      s.v_W = Vector3In(table, row, 8, limits::kMaxSpeed_m_s, "m/s");
+      s.b_g = Vector3In(table, row, 11, limits::kMaxGyroBias_rad_s, "rad/s");
+      s.b_a = Vector3In(table, row, 14, limits::kMaxAccelBias_m_s2, "m/s^2");
     }
     states.push_back(s);
   }
@@ -154,17 +218,17 @@ void RequireNonDecreasing(const TextTable& table, const std::vector<TimeNs>& t,
   }
 }
 
-std::vector<FeatureObservation> ReadFeatures(const std::string& path) {
+std::vector<FeatureObservation> ReadFeatures(const std::string& path,
+                                             std::vector<long>* lines_out) {
   const TextTable table = ReadTextTable(path, Separator::kComma, true);
-  std::vector<long> lines;
+  std::vector<long>& lines = *lines_out;
   const auto t = Stamps(table, &lines);
   RequireNonDecreasing(table, t, lines);
   std::vector<FeatureObservation> out;
   for (size_t i = 0; i < table.rows.size(); ++i) {
     table.RequireFields(table.rows[i], 4);
-    out.push_back({t[i],
-                   static_cast<int>(table.Number(table.rows[i], 1)),
-                   {table.Number(table.rows[i], 2), table.Number(table.rows[i], 3)}});
+    out.push_back({t[i], table.Id(table.rows[i], 1),
+                   Vector2In(table, table.rows[i], 2, limits::kMaxNormalizedCoordinate, "")});
   }
   return out;
 }
@@ -177,7 +241,7 @@ std::vector<LaserObservation> ReadLaser(const std::string& path) {
   std::vector<LaserObservation> out;
   for (size_t i = 0; i < table.rows.size(); ++i) {
     table.RequireFields(table.rows[i], 3);
-    out.push_back({t[i], {table.Number(table.rows[i], 1), table.Number(table.rows[i], 2)}});
+    out.push_back({t[i], Vector2In(table, table.rows[i], 1, limits::kMaxNormalizedCoordinate, "")});
   }
   return out;
 }
@@ -194,9 +258,9 @@ std::vector<TagObservation> ReadTags(const std::string& path, int camera) {
     TagObservation obs;
     obs.t_ns = t[i];
     obs.camera = camera;
-    obs.tag_id = static_cast<int>(table.Number(row, 1));
+    obs.tag_id = table.Id(row, 1);
     for (int k = 0; k < 4; ++k)
-      obs.corners_px[k] = {table.Number(row, 2 + 2 * k), table.Number(row, 3 + 2 * k)};
+      obs.corners_px[k] = Vector2In(table, row, 2 + 2 * k, limits::kMaxPixelCoordinate, "px");
     out.push_back(obs);
   }
   return out;
@@ -205,6 +269,11 @@ std::vector<TagObservation> ReadTags(const std::string& path, int camera) {
 // Header fields "name [unit]" -> name, unit.
 QuantityTable ReadTruthQuantities(const std::string& path) {
   const TextTable table = ReadTextTable(path, Separator::kComma, true);
+  // The header names the quantities: without it the columns mean nothing (a missing or short
+  // header used to drop the file silently).
+  if (table.header.size() < 2)
+    throw InputError(path, 1, "header",
+                     "missing: the first line must name the columns, e.g. '#timestamp [ns],d [m]'");
   std::vector<std::string> names, units;
   for (size_t k = 1; k < table.header.size(); ++k) {
     const std::string& field = table.header[k];
@@ -223,60 +292,114 @@ QuantityTable ReadTruthQuantities(const std::string& path) {
   table.RequireIncreasing(t, lines);
   for (size_t i = 0; i < table.rows.size(); ++i) {
     table.RequireFields(table.rows[i], names.size() + 1);
+    if (table.rows[i].fields.size() > names.size() + 1)
+      throw InputError(path, table.rows[i].line, table.FieldName(names.size() + 1),
+                       fmt::format("row has {} fields but the header names {}",
+                                   table.rows[i].fields.size(), names.size() + 1));
     std::vector<double> values;
-    for (size_t k = 0; k < names.size(); ++k) values.push_back(table.Number(table.rows[i], k + 1));
+    for (size_t k = 0; k < names.size(); ++k)
+      values.push_back(table.NumberIn(table.rows[i], k + 1, -limits::kMaxQuantityMagnitude,
+                                      limits::kMaxQuantityMagnitude, units[k]));
     quantities.Append(t[i], values);
   }
   return quantities;
 }
 
-Eigen::Vector3d Vector3(const YAML::Node& node, const std::string& field, const std::string& path) {
+Eigen::Vector3d Vector3(const YAML::Node& node, const std::string& field, const std::string& path,
+                        double max_abs, const char* unit) {
   const auto v = YamlDoubles(node, field, path, 3);
+  for (double x : v) {
+    if (!(std::abs(x) <= max_abs))
+      throw InputError(
+          path, YamlLine(node[field]), field,
+          fmt::format("{:g} is outside {}", x, limits::RangeText(-max_abs, max_abs, unit)));
+  }
   return {v[0], v[1], v[2]};
+}
+
+// A unit vector or quaternion written with few decimals: normalised within
+// limits::kUnitNormTolerance, refused beyond (a zero quaternion or normal is not a direction).
+template <typename Vector>
+Vector UnitNormalised(const Vector& v, const YAML::Node& node, const std::string& field,
+                      const std::string& path) {
+  if (!(std::abs(v.norm() - 1.0) <= limits::kUnitNormTolerance))
+    throw InputError(path, YamlLine(node[field]), field,
+                     fmt::format("not unit length (norm {:.6g}; accepted and normalised within "
+                                 "1 +- {})",
+                                 v.norm(), limits::kUnitNormTolerance));
+  return v.normalized();
+}
+
+// An id of a list item, unique within the list.
+int UniqueId(const YAML::Node& item, const std::string& path, const char* list,
+             std::map<int, long>* lines_by_id) {
+  const int id = static_cast<int>(YamlInteger(item, "id", path, 0, limits::kMaxId));
+  const auto [it, inserted] = lines_by_id->emplace(id, YamlLine(item));
+  if (!inserted)
+    throw InputError(path, YamlLine(item), "id",
+                     fmt::format("{} id {} is repeated (first on line {})", list, id, it->second));
+  return id;
+}
+
+YAML::Node ListItemMap(const YAML::Node& item, const std::string& path, const char* list) {
+  if (!item.IsMap())
+    throw InputError(path, YamlLine(item), list,
+                     "each entry must be a map such as {id: 0, ...}, found a value that is not");
+  return item;
 }
 
 WorldMap ReadMap(const std::string& path) {
   WorldMap map;
-  const YAML::Node yaml = LoadYamlFile(path);
-  if (const YAML::Node frame = yaml["frame"]) {
-    const std::string name = frame.IsScalar() ? frame.Scalar() : "";
+  const YAML::Node yaml = LoadYamlMap(path);
+  if (yaml["frame"]) {
+    const std::string name = YamlString(yaml, "frame", path);
     if (name == "world") {
       map.frame = MapFrame::kWorld;
     } else if (name == "board") {
       map.frame = MapFrame::kBoard;
     } else {
-      throw InputError(path, frame.Mark().line + 1, "frame",
+      throw InputError(path, YamlLine(yaml["frame"]), "frame",
                        "'" + name + "' is not a map frame (world or board)");
     }
   }
-  if (const YAML::Node landmarks = yaml["landmarks"]) {
-    for (const auto& item : landmarks) {
-      const int id = static_cast<int>(YamlDouble(item, "id", path));
-      map.landmarks_W[id] = Vector3(item, "p_W", path);
+  if (yaml["landmarks"]) {
+    std::map<int, long> lines_by_id;
+    for (const auto& item : YamlListField(yaml, "landmarks", path)) {
+      ListItemMap(item, path, "landmarks");
+      const int id = UniqueId(item, path, "landmark", &lines_by_id);
+      map.landmarks_W[id] = Vector3(item, "p_W", path, limits::kMaxPosition_m, "m");
     }
   }
-  if (const YAML::Node tags = yaml["tags"]) {
-    for (const auto& item : tags) {
+  if (yaml["tags"]) {
+    std::map<int, long> lines_by_id;
+    for (const auto& item : YamlListField(yaml, "tags", path)) {
+      ListItemMap(item, path, "tags");
       TagInfo tag;
-      tag.id = static_cast<int>(YamlDouble(item, "id", path));
-      tag.size_m = YamlDouble(item, "size_m", path);
-      if (!(tag.size_m > 0)) throw InputError(path, item.Mark().line + 1, "size_m", "must be > 0");
+      tag.id = UniqueId(item, path, "tag", &lines_by_id);
+      tag.size_m = YamlDoubleIn(item, "size_m", path, 0.0, limits::kMaxTagSize_m, "m");
+      if (!(tag.size_m > 0))
+        throw InputError(path, YamlLine(item["size_m"]), "size_m", "must be > 0");
       const auto q = YamlDoubles(item, "q_W_T", path, 4);
       tag.T_W_T =
-          Pose(QuaternionFromWxyz(q[0], q[1], q[2], q[3]).normalized(), Vector3(item, "p_W", path));
+          Pose(UnitNormalised(QuaternionFromWxyz(q[0], q[1], q[2], q[3]), item, "q_W_T", path),
+               Vector3(item, "p_W", path, limits::kMaxPosition_m, "m"));
       map.tags[tag.id] = tag;
     }
   }
-  if (const YAML::Node plane = yaml["plane"]) {
+  if (yaml["plane"]) {
+    const YAML::Node plane = YamlMapField(yaml, "plane", path);
     Plane p;
-    p.n_W = Vector3(plane, "n_W", path).normalized();
-    p.d_m = YamlDouble(plane, "d_m", path);
+    p.n_W = UnitNormalised(Vector3(plane, "n_W", path, 1.0 + limits::kUnitNormTolerance, ""), plane,
+                           "n_W", path);
+    p.d_m = YamlDoubleIn(plane, "d_m", path, -limits::kMaxPosition_m, limits::kMaxPosition_m, "m");
     map.plane = p;
   }
-  if (const YAML::Node parameters = yaml["parameters"]) {
-    for (const auto& item : parameters) {
-      const std::string key = item.first.as<std::string>();
-      map.parameters[key] = YamlDouble(parameters, key, path);
+  if (yaml["parameters"]) {
+    for (const auto& item : YamlMapField(yaml, "parameters", path)) {
+      if (!item.first.IsScalar())
+        throw InputError(path, YamlLine(item.first), "parameters", "a key must be a single value");
+      const std::string key = item.first.Scalar();
+      map.parameters[key] = YamlDouble(yaml["parameters"], key, path);
     }
   }
   return map;
@@ -284,12 +407,36 @@ WorldMap ReadMap(const std::string& path) {
 
 std::map<std::string, std::string> ReadScenarioInfo(const std::string& path) {
   std::map<std::string, std::string> info;
-  const YAML::Node yaml = LoadYamlFile(path);
-  if (!yaml.IsMap()) return info;
-  for (const auto& item : yaml) {
-    if (item.second.IsScalar()) info[item.first.as<std::string>()] = item.second.as<std::string>();
-  }
+  const YAML::Node yaml = LoadYamlMap(path);
+  for (const auto& item : yaml)
+    info[item.first.Scalar()] = YamlString(yaml, item.first.Scalar(), path);
   return info;
+}
+
+// yaml-cpp's own exceptions (a conversion that slipped through the typed helpers) become an
+// InputError naming the file and line, never "internal error".
+template <typename Function>
+auto NamingFile(const std::string& path, Function read) {
+  try {
+    return read();
+  } catch (const YAML::Exception& e) {
+    throw InputError(path, e.mark.line >= 0 ? e.mark.line + 1 : 0, "", e.msg);
+  }
+}
+
+// Features must name landmarks of the map when the map lists landmarks (otherwise the smoother and
+// the landmark estimators used to drop out of the comparison without a word).
+void RequireFeaturesInMap(const Dataset& d, const std::string& features_path,
+                          const std::vector<long>& lines) {
+  if (d.map.landmarks_W.empty()) return;
+  for (size_t i = 0; i < d.features.size(); ++i) {
+    if (d.map.landmarks_W.count(d.features[i].landmark_id) == 0)
+      throw InputError(
+          features_path, lines[i], "landmark_id",
+          fmt::format("landmark {} is not in map.yaml ({} landmarks, ids {}..{})",
+                      d.features[i].landmark_id, d.map.landmarks_W.size(),
+                      d.map.landmarks_W.begin()->first, d.map.landmarks_W.rbegin()->first));
+  }
 }
 
 // ---- writing ----
@@ -482,8 +629,10 @@ Dataset ReadEurocDataset(const std::string& root, const EurocReadOptions& option
   Dataset d;
   d.root = fs::weakly_canonical(root).string();
   d.name = fs::path(d.root).filename().string();
+  const auto yaml_of = [](const fs::path& folder) { return (folder / "sensor.yaml").string(); };
   // No imu0 folder: a log without an IMU (e.g. TagSLAM's tag logs); IMU estimators say so.
-  if (fs::is_directory(mav0 / kImu)) d.imu = ReadImu(mav0 / kImu);
+  if (fs::is_directory(mav0 / kImu))
+    d.imu = NamingFile(yaml_of(mav0 / kImu), [&] { return ReadImu(mav0 / kImu); });
   if (options.load_cameras) {
     std::vector<fs::path> camera_folders;
     for (const auto& entry : fs::directory_iterator(mav0)) {
@@ -493,24 +642,24 @@ Dataset ReadEurocDataset(const std::string& root, const EurocReadOptions& option
         camera_folders.push_back(entry.path());
     }
     std::sort(camera_folders.begin(), camera_folders.end());
-    for (const auto& folder : camera_folders) d.cameras.push_back(ReadCamera(folder));
+    for (const auto& folder : camera_folders)
+      d.cameras.push_back(NamingFile(yaml_of(folder), [&] { return ReadCamera(folder); }));
   }
-  const fs::path gt = mav0 / kGroundTruth / "data.csv";
-  if (fs::exists(gt)) d.ground_truth = ReadGroundTruthCsv(gt.string());
-  if (fs::exists(mav0 / kFeatures / "data.csv"))
-    d.features = ReadFeatures((mav0 / kFeatures / "data.csv").string());
-  if (fs::exists(mav0 / kLaser / "data.csv"))
-    d.laser = ReadLaser((mav0 / kLaser / "data.csv").string());
-  if (fs::exists(mav0 / kTags / "data.csv"))
-    d.tags = ReadTags((mav0 / kTags / "data.csv").string(), 0);
-  if (fs::exists(mav0 / kTags1 / "data.csv"))
-    d.tags1 = ReadTags((mav0 / kTags1 / "data.csv").string(), 1);
-  if (fs::exists(mav0 / kTruthQuantities / "data.csv"))
-    d.truth_quantities = ReadTruthQuantities((mav0 / kTruthQuantities / "data.csv").string());
-  if (fs::exists(fs::path(root) / "map.yaml"))
-    d.map = ReadMap((fs::path(root) / "map.yaml").string());
-  if (fs::exists(fs::path(root) / "scenario.yaml")) {
-    d.scenario_info = ReadScenarioInfo((fs::path(root) / "scenario.yaml").string());
+  const auto stream = [&](const char* name) { return (mav0 / name / "data.csv").string(); };
+  if (fs::exists(stream(kGroundTruth))) d.ground_truth = ReadGroundTruthCsv(stream(kGroundTruth));
+  std::vector<long> feature_lines;
+  if (fs::exists(stream(kFeatures))) d.features = ReadFeatures(stream(kFeatures), &feature_lines);
+  if (fs::exists(stream(kLaser))) d.laser = ReadLaser(stream(kLaser));
+  if (fs::exists(stream(kTags))) d.tags = ReadTags(stream(kTags), 0);
+  if (fs::exists(stream(kTags1))) d.tags1 = ReadTags(stream(kTags1), 1);
+  if (fs::exists(stream(kTruthQuantities)))
+    d.truth_quantities = ReadTruthQuantities(stream(kTruthQuantities));
+  const std::string map_path = (fs::path(root) / "map.yaml").string();
+  if (fs::exists(map_path)) d.map = NamingFile(map_path, [&] { return ReadMap(map_path); });
+  RequireFeaturesInMap(d, stream(kFeatures), feature_lines);
+  const std::string scenario_path = (fs::path(root) / "scenario.yaml").string();
+  if (fs::exists(scenario_path)) {
+    d.scenario_info = NamingFile(scenario_path, [&] { return ReadScenarioInfo(scenario_path); });
     if (d.scenario_info.count("scenario")) d.scenario = d.scenario_info["scenario"];
   }
   return d;
@@ -581,8 +730,8 @@ std::vector<ImuSample> ReadImuCsv(const std::string& path) {
     table.RequireFields(row, 7);
     ImuSample s;
     s.t_ns = t[i];
-    s.gyro_rad_s = {table.Number(row, 1), table.Number(row, 2), table.Number(row, 3)};
-    s.accel_m_s2 = {table.Number(row, 4), table.Number(row, 5), table.Number(row, 6)};
+    s.gyro_rad_s = Vector3In(table, row, 1, limits::kMaxAngularRate_rad_s, "rad/s");
+    s.accel_m_s2 = Vector3In(table, row, 4, limits::kMaxSpecificForce_m_s2, "m/s^2");
     samples.push_back(s);
   }
   return samples;

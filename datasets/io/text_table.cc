@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/errors.h"
+#include "core/physical_limits.h"
 
 namespace mavloc {
 
@@ -64,6 +65,29 @@ double TextTable::Number(const TextRow& row, size_t k) const {
   return value;
 }
 
+double TextTable::NumberIn(const TextRow& row, size_t k, double lo, double hi,
+                           const std::string& unit) const {
+  const double value = Number(row, k);
+  if (!(value >= lo && value <= hi))
+    throw InputError(path, row.line, FieldName(k),
+                     "'" + row.fields[k] + "' is outside " + limits::RangeText(lo, hi, unit));
+  return value;
+}
+
+int TextTable::Id(const TextRow& row, size_t k) const {
+  RequireFields(row, k + 1);
+  const std::string& text = row.fields[k];
+  char* end = nullptr;
+  errno = 0;
+  const long long value = std::strtoll(text.c_str(), &end, 10);
+  if (text.empty() || end == text.c_str() || *end != '\0' || errno == ERANGE)
+    throw InputError(path, row.line, FieldName(k), "'" + text + "' is not an integer id");
+  if (value < 0 || value > limits::kMaxId)
+    throw InputError(path, row.line, FieldName(k),
+                     "id " + text + " is outside [0, " + std::to_string(limits::kMaxId) + "]");
+  return static_cast<int>(value);
+}
+
 TimeNs TextTable::TimestampNs(const TextRow& row, size_t k) const {
   RequireFields(row, k + 1);
   const std::string& text = row.fields[k];
@@ -74,6 +98,10 @@ TimeNs TextTable::TimestampNs(const TextRow& row, size_t k) const {
     throw InputError(path, row.line, FieldName(k),
                      "'" + text + "' is not an integer timestamp in nanoseconds");
   if (value < 0) throw InputError(path, row.line, FieldName(k), "negative timestamp");
+  if (value > limits::kMaxTimestampNs)
+    throw InputError(path, row.line, FieldName(k),
+                     "timestamp " + text + " ns is beyond " +
+                         std::to_string(limits::kMaxTimestampNs) + " ns (year 2116)");
   return value;
 }
 
@@ -88,14 +116,24 @@ TimeNs TextTable::SecondsAsNs(const TextRow& row, size_t k) const {
     return s.find_first_not_of("0123456789") == std::string::npos;
   };
   if (!integer.empty() && digits(integer) && digits(fraction) && integer.size() < 11) {
+    const long long whole_s = std::stoll(integer);  // at most 10 digits: no overflow
+    if (whole_s >= limits::kMaxTimestampNs / kNsPerSecond)
+      throw InputError(path, row.line, FieldName(k),
+                       "timestamp " + text + " s is beyond " +
+                           std::to_string(limits::kMaxTimestampNs / kNsPerSecond) +
+                           " s (year 2116)");
     std::string nanos = fraction.substr(0, 9);
     nanos.resize(9, '0');
-    TimeNs t = std::stoll(integer) * kNsPerSecond + std::stoll(nanos);
+    TimeNs t = whole_s * kNsPerSecond + std::stoll(nanos);
     if (fraction.size() > 9 && fraction[9] >= '5') ++t;
     return t;
   }
   const double seconds = Number(row, k);
   if (seconds < 0) throw InputError(path, row.line, FieldName(k), "negative timestamp");
+  if (!(seconds * 1e9 <= static_cast<double>(limits::kMaxTimestampNs)))
+    throw InputError(path, row.line, FieldName(k),
+                     "timestamp " + text + " s is beyond " +
+                         std::to_string(limits::kMaxTimestampNs / kNsPerSecond) + " s (year 2116)");
   return SecondsToNs(seconds);
 }
 
@@ -115,7 +153,7 @@ void TextTable::RequireIncreasing(const std::vector<TimeNs>& t_ns,
 TextTable ReadTextTable(const std::string& path, Separator separator, bool allow_empty) {
   if (!std::filesystem::exists(path)) throw InputError(path, 0, "", "file does not exist");
   if (std::filesystem::is_directory(path)) throw InputError(path, 0, "", "is a folder, not a file");
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "", "cannot open file");
   TextTable table;
   table.path = path;
@@ -123,6 +161,7 @@ TextTable ReadTextTable(const std::string& path, Separator separator, bool allow
   long number = 0;
   while (std::getline(in, line)) {
     ++number;
+    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // UTF-8 BOM
     const std::string trimmed = Trim(line);
     if (trimmed.empty()) continue;
     if (trimmed.front() == '#') {

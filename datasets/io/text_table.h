@@ -26,8 +26,14 @@ struct TextTable {
   // Name of field k for messages: the header's name, or "column k+1".
   std::string FieldName(size_t k) const;
   // Parses field k of a row as a finite double / as an integer nanosecond timestamp / as seconds
-  // converted exactly to nanoseconds (decimal text, no binary rounding). Throw InputError.
+  // converted exactly to nanoseconds (decimal text, no binary rounding); timestamps must lie in
+  // [0, limits::kMaxTimestampNs]. Throw InputError.
   double Number(const TextRow& row, size_t k) const;
+  // Number within [lo, hi] (a sanity range of core/physical_limits.h), else InputError.
+  double NumberIn(const TextRow& row, size_t k, double lo, double hi,
+                  const std::string& unit) const;
+  // An id written as an integer ("17"; not "17.0", "1.5" or "1e308") in [0, limits::kMaxId].
+  int Id(const TextRow& row, size_t k) const;
   TimeNs TimestampNs(const TextRow& row, size_t k) const;
   TimeNs SecondsAsNs(const TextRow& row, size_t k) const;
   // Throws unless the row has at least `count` fields.
@@ -36,8 +42,8 @@ struct TextTable {
   void RequireIncreasing(const std::vector<TimeNs>& t_ns, const std::vector<long>& lines) const;
 };
 
-// Reads the file; throws InputError when it does not exist, cannot be read, or (unless
-// allow_empty) has no data row.
+// Reads the file (a UTF-8 byte order mark before the first line is dropped); throws InputError when
+// it does not exist, cannot be read, or (unless allow_empty) has no data row.
 TextTable ReadTextTable(const std::string& path, Separator separator, bool allow_empty = false);
 
 }  // namespace mavloc

@@ -1,21 +1,76 @@
 #include "datasets/scenarios/scenario.h"
 
+#include <fmt/format.h>
+
+#include <cmath>
+#include <stdexcept>
+
 #include "core/errors.h"
 #include "core/key_values.h"
 
 namespace mavloc {
 
+namespace {
+
+void RequireDeclared(const ScenarioOptions& options, const std::string& key) {
+  if (options.declared_settings && !options.declared_settings->count(key))
+    throw std::logic_error("a scenario reads setting '" + key +
+                           "' that its entry in datasets/scenarios/scenario_registry.cc does not "
+                           "declare");
+}
+
+std::string JoinKeys(const std::set<std::string>& keys) {
+  std::string names;
+  for (const auto& k : keys) names += (names.empty() ? "" : ", ") + k;
+  return names.empty() ? "none" : names;
+}
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
 double ScenarioOptions::GetDouble(const std::string& key, double fallback) const {
+  RequireDeclared(*this, key);
   return GetDoubleSetting(settings, key, fallback);
 }
 int ScenarioOptions::GetInt(const std::string& key, int fallback) const {
+  RequireDeclared(*this, key);
   return GetIntSetting(settings, key, fallback);
 }
 bool ScenarioOptions::GetBool(const std::string& key, bool fallback) const {
+  RequireDeclared(*this, key);
   return GetBoolSetting(settings, key, fallback);
 }
 std::string ScenarioOptions::GetString(const std::string& key, const std::string& fallback) const {
+  RequireDeclared(*this, key);
   return GetStringSetting(settings, key, fallback);
+}
+
+void CheckScenarioOptions(const ScenarioEntry& entry, const ScenarioOptions& options) {
+  for (const auto& [key, value] : options.settings) {
+    if (!entry.settings.count(key))
+      throw InputError("--set " + key + "=" + value + ": scenario " + entry.name +
+                       " has no setting '" + key + "' (known: " + JoinKeys(entry.settings) + ")");
+    if (EndsWith(key, "_rate_hz")) {
+      const double rate_hz = GetDoubleSetting(options.settings, key, 0.0);
+      if (!(rate_hz > 0.0 && rate_hz <= kMaxScenarioRateHz))
+        throw InputError(
+            fmt::format("--set {}={}: outside (0, {}] Hz, the simulator's limit "
+                        "(kMaxScenarioRateHz, datasets/scenarios/scenario.h)",
+                        key, value, kMaxScenarioRateHz));
+    }
+  }
+  if (options.duration_s) {
+    const double d = *options.duration_s;
+    if (!(std::isfinite(d) && d > 0.0 && d <= kMaxScenarioDurationS))
+      throw InputError(
+          fmt::format("--duration {}: outside (0, {}] s, the simulator's limit "
+                      "(kMaxScenarioDurationS, datasets/scenarios/scenario.h)",
+                      d, kMaxScenarioDurationS));
+  }
 }
 
 void ScenarioOptions::RejectUnknownSettings(const std::string& scenario,

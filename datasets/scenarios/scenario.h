@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -18,6 +19,15 @@ namespace mavloc {
 
 // Start time of every simulated scenario: 1000 s, positive EuRoC-like stamps.
 inline constexpr TimeNs kScenarioStartNs = 1'000'000'000'000;
+
+// Sanity limits of a simulated dataset (issue 17, "Options"), the one place they are stated. A
+// dataset is generated in memory and then written as CSV: an IMU or ground-truth row takes ~100
+// bytes in memory and ~120 bytes of text, so an hour at the fastest rate allowed (1000 Hz) is
+// 3.6e6 rows per stream, ~0.4 GB of memory and ~0.4 GB of CSV each for IMU and ground truth, and
+// a few minutes of CPU: the most a laptop simulates comfortably. Longer or faster requests are
+// refused before any work (`--duration`, and every `--set *_rate_hz`).
+inline constexpr double kMaxScenarioDurationS = 3600.0;
+inline constexpr double kMaxScenarioRateHz = 1000.0;
 
 struct ScenarioOptions {
   uint64_t seed = 1;
@@ -37,13 +47,27 @@ struct ScenarioOptions {
   std::string GetString(const std::string& key, const std::string& fallback) const;
   // Throws InputError naming the scenario and the known keys when a setting is not in `known`.
   void RejectUnknownSettings(const std::string& scenario, const std::set<std::string>& known) const;
+
+  // Set by the registry's generate (ScenarioEntry): the settings the scenario declares. A getter
+  // asked for an undeclared key then throws std::logic_error, so that the declared list (which
+  // rejects unknown `--set` keys up front) cannot silently fall behind the code.
+  std::shared_ptr<const std::set<std::string>> declared_settings;
 };
 
 struct ScenarioEntry {
   std::string name;
   std::string description;
+  // Every `--set` key the scenario reads. The registry's generate rejects any other key, a
+  // duration outside (0, kMaxScenarioDurationS] and a `*_rate_hz` setting outside
+  // (0, kMaxScenarioRateHz] with an InputError before generating anything.
+  std::set<std::string> settings;
   std::function<Dataset(const ScenarioOptions&)> generate;
 };
+
+// The check ScenarioEntry::generate makes before generating (exposed for the CLI, which checks
+// before it prepares any output): throws InputError naming the scenario and the offending key or
+// value, with the list of known keys.
+void CheckScenarioOptions(const ScenarioEntry& entry, const ScenarioOptions& options);
 
 // All scenarios, in a fixed order (datasets/scenarios/scenario_registry.cc lists them).
 const std::vector<ScenarioEntry>& ScenarioRegistry();

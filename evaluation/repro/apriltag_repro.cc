@@ -305,13 +305,22 @@ std::string F(double v, int digits = 3) { return FormatNumber(v, digits); }
 
 int RunAprilTagRepro(const ReproOptions& options) {
   const Settings& settings = options.settings;
+  // Every key read here, by the image pipeline (supersampling ... decimate) or handed to the
+  // scenario (processing_delay_s, corner_noise_px, camera_offset_s).
+  RejectUnknownReproSettings(
+      "apriltag", settings,
+      {"hover_duration_s", "dynamic_duration_s", "images", "supersampling", "image_noise_grey",
+       "exposure_s", "blur_samples", "refine_edges", "decimate", "processing_delay_s",
+       "corner_noise_px", "camera_offset_s"});
   const int runs = options.runs.value_or(kDefaultRuns);
   const double hover_s = GetDoubleSetting(settings, "hover_duration_s", 10.0);
   const double dynamic_s = GetDoubleSetting(settings, "dynamic_duration_s", 40.0);
   const bool from_images = GetBoolSetting(settings, "images", true);
   if (runs < 1) throw InputError("", 0, "--runs", "must be >= 1");
-  if (!(hover_s >= 3.0)) throw InputError("", 0, "hover_duration_s", "must be >= 3");
-  if (!(dynamic_s >= 8.0)) throw InputError("", 0, "dynamic_duration_s", "must be >= 8");
+  if (!(hover_s >= 3.0 && hover_s <= kMaxScenarioDurationS))
+    throw InputError("", 0, "hover_duration_s", "must be in [3, 3600] s (kMaxScenarioDurationS)");
+  if (!(dynamic_s >= 8.0 && dynamic_s <= kMaxScenarioDurationS))
+    throw InputError("", 0, "dynamic_duration_s", "must be in [8, 3600] s (kMaxScenarioDurationS)");
   const auto total_start = Clock::now();
   Settings scenario_settings;
   for (const char* key : {"processing_delay_s", "corner_noise_px", "camera_offset_s"}) {

@@ -281,7 +281,9 @@ int RunLaserRepro(const ReproOptions& options) {
       GetDoubleSetting(options.settings, "band_angle_deg", 2.0) * kDeg;
   bands.si["v_o"] = GetDoubleSetting(options.settings, "band_v_o_m_s", 0.1);
   bands.si["d"] = GetDoubleSetting(options.settings, "band_d_m", 0.1);
-  if (!(duration_s > 0.0)) throw InputError("repro laser: duration_s must be > 0");
+  if (!(duration_s > 0.0 && duration_s <= kMaxScenarioDurationS))
+    throw InputError(fmt::format("--set duration_s={}: outside (0, {}] s (kMaxScenarioDurationS)",
+                                 duration_s, kMaxScenarioDurationS));
 
   std::vector<TableResult> tables;
   for (const bool bias : {false, true}) {

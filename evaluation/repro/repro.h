@@ -29,6 +29,12 @@ struct ReproEntry {
 };
 
 const std::vector<ReproEntry>& ReproRegistry();  // evaluation/repro/repro_registry.cc
+
+// Throws InputError "--set KEY=VALUE: repro NAME has no setting 'KEY' (known: ...)" for the first
+// setting not in `known` (evaluation/repro/repro_registry.cc).
+void RejectUnknownReproSettings(const std::string& repro,
+                                const std::map<std::string, std::string>& settings,
+                                const std::vector<std::string>& known);
 const ReproEntry* FindRepro(const std::string& name);
 
 }  // namespace mavloc

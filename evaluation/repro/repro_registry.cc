@@ -1,4 +1,7 @@
 // The list of paper reproductions (`mavloc repro NAME`). Adding one is one entry here.
+#include <algorithm>
+
+#include "core/errors.h"
 #include "evaluation/repro/apriltag_repro.h"
 #include "evaluation/repro/euroc_imu_april_repro.h"
 #include "evaluation/repro/laser_repro.h"
@@ -27,6 +30,18 @@ const std::vector<ReproEntry>& ReproRegistry() {
        RunEurocImuAprilRepro},
   };
   return kEntries;
+}
+
+void RejectUnknownReproSettings(const std::string& repro,
+                                const std::map<std::string, std::string>& settings,
+                                const std::vector<std::string>& known) {
+  for (const auto& [key, value] : settings) {
+    if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+    std::string list;
+    for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+    throw InputError("--set " + key + "=" + value + ": repro " + repro + " has no setting '" + key +
+                     "' (known: " + list + ")");
+  }
 }
 
 const ReproEntry* FindRepro(const std::string& name) {

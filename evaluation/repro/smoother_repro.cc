@@ -22,6 +22,9 @@
 #include "datasets/scenarios/scenario.h"
 #include "evaluation/association.h"
 #include "evaluation/comparison.h"
+#include "evaluation/crlb/consistency.h"
+#include "evaluation/crlb/efficiency.h"
+#include "evaluation/crlb/smoother_bound.h"
 #include "evaluation/report_writer.h"
 #include "solver/smoother/smoother_initialization.h"
 
@@ -139,6 +142,9 @@ struct RunMetrics {
   std::map<std::string, int> failure_reasons;
   double runtime_s = 0.0;
   nlohmann::json json;  // EvaluationToJson
+  // Against the Cramér–Rao bound of this run's dataset (issue 15): the smoothing bound and the
+  // filtering (causal) bound, at the keyframes where the estimator has a pose.
+  EfficiencySums smoothing_efficiency, filtering_efficiency;
 };
 
 RunMetrics Summarize(const EstimatorEvaluation& evaluation) {
@@ -286,6 +292,7 @@ double Mean(const std::vector<double>& values) {
 struct RowResult {
   Row row;
   std::vector<RunMetrics> runs;
+  NeesAccumulator nees;  // the estimator's own covariances against its errors (issue 15)
 
   std::vector<double> Collect(const std::function<double(const RunMetrics&)>& f) const {
     std::vector<double> v;
@@ -323,6 +330,9 @@ struct WinCount {
 struct ScenarioResult {
   Plan plan;
   double duration_s = kNaN;
+  int bound_runs = 0;                    // runs with a Cramér–Rao bound
+  std::string bound_unavailable;         // why not, when no run has one
+  double bound_compute_s = 0.0;          // mean time to compute the bound
   std::vector<RowResult> rows;           // in plan order
   std::map<std::string, WinCount> wins;  // competitor label -> counts
 };
@@ -527,7 +537,7 @@ ScenarioResult RunScenario(const Plan& plan, const ReproOptions& options, int ru
                            const std::optional<double>& duration_s, const std::string& euroc_data) {
   ScenarioResult result;
   result.plan = plan;
-  for (const auto& row : plan.rows) result.rows.push_back({row, {}});
+  for (const auto& row : plan.rows) result.rows.push_back({row, {}, {}});
   const EvaluationOptions evaluation_options;  // align none, 20 ms association
   for (int k = 0; k < runs; ++k) {
     const uint64_t seed = options.seed + static_cast<uint64_t>(k);
@@ -541,6 +551,14 @@ ScenarioResult RunScenario(const Plan& plan, const ReproOptions& options, int ru
     if (k == 0 && !dataset.ground_truth.empty())
       result.duration_s =
           NsToSeconds(dataset.ground_truth.back().t_ns - dataset.ground_truth.front().t_ns);
+    // The Cramér–Rao bound of this dataset for the smoother's problem (issue 15).
+    const SmootherCrlb bound = ComputeSmootherCrlb(dataset, EstimatorOptions(plan.rows[0].options));
+    if (bound.ok) {
+      ++result.bound_runs;
+      result.bound_compute_s += bound.compute_s;
+    } else {
+      result.bound_unavailable = bound.reason;
+    }
     std::vector<EstimatorEvaluation> evaluations;
     for (auto& row_result : result.rows) {
       const Row& row = row_result.row;
@@ -556,6 +574,14 @@ ScenarioResult RunScenario(const Plan& plan, const ReproOptions& options, int ru
               ? RunLandmarkPnp(dataset, evaluation_options)
               : RunAndEvaluate(row.estimator, estimator_options, dataset, evaluation_options);
       row_result.runs.push_back(Summarize(evaluation));
+      if (evaluation.ran) AccumulateNees(dataset, evaluation.estimate, &row_result.nees);
+      if (bound.ok && evaluation.ran) {
+        const std::vector<StampedPose> poses = SeedPoses(evaluation.estimate);
+        row_result.runs.back().smoothing_efficiency =
+            CompareWithBound(bound, poses, BoundKind::kSmoothing);
+        row_result.runs.back().filtering_efficiency =
+            CompareWithBound(bound, poses, BoundKind::kFiltering);
+      }
       evaluations.push_back(std::move(evaluation));
     }
     for (size_t i = 1; i < result.rows.size(); ++i) {
@@ -582,7 +608,151 @@ ScenarioResult RunScenario(const Plan& plan, const ReproOptions& options, int ru
       }
     }
   }
+  if (result.bound_runs > 0) result.bound_compute_s /= result.bound_runs;
   return result;
+}
+
+// The bound that fits an estimator: smoothing for the batch smoother (it uses the whole run),
+// filtering for every causal estimator (filters, per-frame closed forms and PnP).
+bool UsesSmoothingBound(const Row& row) { return row.estimator == "smoother"; }
+
+EfficiencySums EfficiencyOf(const RowResult& r, BoundKind kind) {
+  EfficiencySums total;
+  for (const auto& m : r.runs)
+    total.Add(kind == BoundKind::kSmoothing ? m.smoothing_efficiency : m.filtering_efficiency);
+  return total;
+}
+
+// The efficiency table (issue 15): per estimator the bound that fits it (RMS over keyframes and
+// runs of its standard deviation) and RMSE / bound, squared errors summed over runs first.
+std::string EfficiencyMarkdown(const ScenarioResult& s) {
+  if (s.bound_runs == 0)
+    return fmt::format("Cramér–Rao bound: not available ({}).\n\n",
+                       s.bound_unavailable.empty() ? "no run" : s.bound_unavailable);
+  std::string md = fmt::format(
+      "Efficiency against the Cramér–Rao bound ({} runs with a bound; {} s per bound): the "
+      "smoother against the smoothing bound of its batch problem, the causal estimators against "
+      "the filtering (posterior, Tichavsky et al. 1998) bound; bound = RMS over the compared "
+      "keyframes and runs of sqrt(trace) of the position / attitude block; ratio = "
+      "sqrt(sum of squared errors / sum of bound variances) over the same keyframes and runs.\n\n",
+      s.bound_runs, FormatNumber(s.bound_compute_s, 3));
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& r : s.rows) {
+    for (const BoundKind kind : {BoundKind::kSmoothing, BoundKind::kFiltering}) {
+      const bool fits = UsesSmoothingBound(r.row) == (kind == BoundKind::kSmoothing);
+      if (!fits && r.row.role != Role::kSmoother) continue;
+      const EfficiencySums e = EfficiencyOf(r, kind);
+      if (e.frames == 0) continue;
+      rows.push_back(
+          {r.row.label, kind == BoundKind::kSmoothing ? "smoothing" : "filtering",
+           FormatNumber(1e3 * e.PositionBoundRms(), 3), FormatNumber(e.PositionRatio(), 3),
+           FormatNumber(e.AttitudeBoundRms() / kDeg, 4), FormatNumber(e.AttitudeRatio(), 3),
+           FormatNumber(1.0 * e.frames / std::max(1, e.runs), 0)});
+    }
+  }
+  md += MarkdownTable({"estimator", "bound", "position bound [mm]", "position RMSE / bound",
+                       "attitude bound [deg]", "attitude RMSE / bound", "keyframes per run"},
+                      rows);
+  return md + "\n";
+}
+
+// Consistency of the estimators that return covariances (issue 15).
+std::string ConsistencyMarkdown(const ScenarioResult& s) {
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& r : s.rows) {
+    const AneesSummary p = SummarizeAnees(r.nees.position, r.nees.runs);
+    const AneesSummary a = SummarizeAnees(r.nees.attitude, r.nees.runs);
+    if (!p.available && !a.available) continue;
+    const auto cells = [](const AneesSummary& x) -> std::vector<std::string> {
+      if (!x.available) return {"", ""};
+      return {FormatNumber(x.mean_anees, 2), FormatNumber(100.0 * x.fraction_inside, 0) + " %"};
+    };
+    const AneesSummary& any = p.available ? p : a;
+    std::vector<std::string> row = {
+        r.row.label, std::to_string(any.runs),
+        fmt::format("[{}, {}]", FormatNumber(any.band_low, 2), FormatNumber(any.band_high, 2)),
+        std::to_string(any.steps)};
+    for (const auto& c : cells(p)) row.push_back(c);
+    for (const auto& c : cells(a)) row.push_back(c);
+    rows.push_back(row);
+  }
+  if (rows.empty()) return "";
+  return "Consistency (judged on simulations only: the only data whose errors and noise are "
+         "known): ANEES = NEES of the estimator's own covariance averaged over the runs per time "
+         "step (3 dof each for position x y z and attitude roll pitch yaw; expectation 3), its "
+         "two-sided 95 % band chi^2(3N)/N, the mean over the time steps every run reached and the "
+         "share of those steps inside the band. Below the band: the covariance is pessimistic; "
+         "above: over-confident.\n\n" +
+         MarkdownTable({"estimator", "runs", "95 % band", "time steps", "ANEES position",
+                        "position inside band", "ANEES attitude", "attitude inside band"},
+                       rows) +
+         "\n";
+}
+
+nlohmann::json AneesJson(const AneesSummary& x) {
+  if (!x.available) return nullptr;
+  return {{"runs", x.runs},
+          {"time_steps", x.steps},
+          {"mean_anees", x.mean_anees},
+          {"band", {x.band_low, x.band_high}},
+          {"fraction_inside", x.fraction_inside}};
+}
+
+// crlb_<scenario>.csv: per keyframe stamp, the RMS over runs of each estimator's position and
+// attitude errors ("RMSE") and the RMS of its bound ("bound": smoothing for the smoother,
+// filtering for the causal estimators), in one column each so that `mavloc figures` draws error
+// and bound on the same axes (issue 15: error RMS over time against the bound).
+std::string EfficiencyCsv(const ScenarioResult& s) {
+  std::string csv = "estimator,curve,t [s],position [m],attitude [rad]\n";
+  for (const auto& r : s.rows) {
+    const bool smoothing = UsesSmoothingBound(r.row);
+    const EfficiencySums e =
+        EfficiencyOf(r, smoothing ? BoundKind::kSmoothing : BoundKind::kFiltering);
+    for (const bool bound : {false, true}) {
+      const std::string curve =
+          bound ? (smoothing ? "smoothing bound" : "filtering bound") : "RMSE";
+      for (const auto& [t, v] : e.per_time) {
+        const double n = v[4];
+        csv += fmt::format("{},{},{:.3f},{:.6g},{:.6g}\n", r.row.label, curve, NsToSeconds(t),
+                           std::sqrt(v[bound ? 1 : 0] / n), std::sqrt(v[bound ? 3 : 2] / n));
+      }
+    }
+  }
+  return csv;
+}
+
+// anees_<scenario>.csv: ANEES per time step with its 95 % band (the band columns are drawn as the
+// gray consistency band by `mavloc figures`).
+std::string AneesCsv(const ScenarioResult& s) {
+  std::string csv = "estimator,quantity,t [s],anees,band_low,band_high\n";
+  bool any = false;
+  for (const auto& r : s.rows) {
+    for (const auto& [name, series] :
+         {std::pair{"position", &r.nees.position}, std::pair{"attitude", &r.nees.attitude}}) {
+      const AneesSummary summary = SummarizeAnees(*series, r.nees.runs);
+      if (!summary.available) continue;
+      for (const auto& [t, cell] : *series) {
+        if (cell.second < r.nees.runs) continue;
+        any = true;
+        csv += fmt::format("{},{},{:.3f},{:.6g},{:.6g},{:.6g}\n", r.row.label, name, NsToSeconds(t),
+                           cell.first / cell.second, summary.band_low, summary.band_high);
+      }
+    }
+  }
+  return any ? csv : "";
+}
+
+nlohmann::json EfficiencyJson(const EfficiencySums& e) {
+  return {{"position_bound_rms_m", e.PositionBoundRms()},
+          {"position_rmse_over_bound", e.PositionRatio()},
+          {"attitude_bound_rms_deg", e.AttitudeBoundRms() / kDeg},
+          {"attitude_rmse_over_bound", e.AttitudeRatio()},
+          {"keyframes", e.frames},
+          {"runs", e.runs},
+          {"per_run_position_mse_m2", e.run_position_error2},
+          {"per_run_position_bound_variance_m2", e.run_position_bound2},
+          {"per_run_attitude_mse_rad2", e.run_attitude_error2},
+          {"per_run_attitude_bound_variance_rad2", e.run_attitude_bound2}};
 }
 
 std::string Cell(double value, double scale, int digits) {
@@ -656,6 +826,7 @@ std::string ScenarioMarkdown(const ScenarioResult& s, int runs) {
   }
   md += MarkdownTable(header, rows) + "\n";
   for (const auto& line : Verdicts(s)) md += "- " + line + "\n";
+  md += "\n" + EfficiencyMarkdown(s) + ConsistencyMarkdown(s);
   return md + "\n";
 }
 
@@ -663,6 +834,9 @@ nlohmann::json ScenarioJson(const ScenarioResult& s) {
   nlohmann::json j;
   j["duration_s"] = s.duration_s;
   j["laser"] = s.plan.laser;
+  j["cramer_rao_runs"] = s.bound_runs;
+  if (s.bound_runs == 0) j["cramer_rao_unavailable"] = s.bound_unavailable;
+  j["cramer_rao_compute_s"] = s.bound_compute_s;
   for (const auto& r : s.rows) {
     nlohmann::json e;
     e["estimator"] = r.row.estimator;
@@ -703,6 +877,13 @@ nlohmann::json ScenarioJson(const ScenarioResult& s) {
       e["mean_imu_bridged_frames_per_run"] =
           Mean(r.Collect([](const RunMetrics& m) { return 1.0 * m.bridged_frames; }));
     }
+    if (s.bound_runs > 0) {
+      e["cramer_rao"] = {{"smoothing", EfficiencyJson(EfficiencyOf(r, BoundKind::kSmoothing))},
+                         {"filtering", EfficiencyJson(EfficiencyOf(r, BoundKind::kFiltering))},
+                         {"fitting_bound", UsesSmoothingBound(r.row) ? "smoothing" : "filtering"}};
+    }
+    e["anees"] = {{"position", AneesJson(SummarizeAnees(r.nees.position, r.nees.runs))},
+                  {"attitude", AneesJson(SummarizeAnees(r.nees.attitude, r.nees.runs))}};
     e["mean_failures_per_run"] = r.MeanFailures();
     e["failures"] = r.FailureReasons();
     e["mean_runtime_s"] = Mean(r.Collect([](const RunMetrics& m) { return m.runtime_s; }));
@@ -750,6 +931,9 @@ int RunSmootherRepro(const ReproOptions& options) {
                       "duration_s.SCENARIO, euroc_data, smoother.KEY)",
                       key));
   }
+  // The smoother's marginal pose covariances for the consistency (ANEES) table of issue 15;
+  // `--set smoother.covariance=0` leaves them out (and their time out of the runtime column).
+  if (!smoother_options.count("covariance")) smoother_options["covariance"] = "1";
   const int runs = options.runs.value_or(kDefaultRuns);
   if (runs < 1) throw InputError("repro smoother: --runs must be >= 1");
   // duration_s.SCENARIO, else duration_s, else the scenario's default.
@@ -821,15 +1005,21 @@ int RunSmootherRepro(const ReproOptions& options) {
       runs, options.seed, options.seed + runs - 1);
   for (const auto& [name, reason] : skipped) md += fmt::format("- {} skipped: {}\n", name, reason);
   if (!skipped.empty()) md += "\n";
+  std::map<std::string, std::string> extra;
   for (const auto& result : results) {
     md += ScenarioMarkdown(result, runs);
     json["tables"][result.plan.scenario] = ScenarioJson(result);
+    if (result.bound_runs > 0)
+      extra["crlb_" + result.plan.scenario + ".csv"] = EfficiencyCsv(result);
+    const std::string anees = AneesCsv(result);
+    if (!anees.empty()) extra["anees_" + result.plan.scenario + ".csv"] = anees;
   }
   md += fmt::format("Total run time {} s.\n", FormatNumber(elapsed_s, 1));
 
   ReportFiles files;
   files.markdown = md;
   files.json = json;
+  files.extra = extra;
   WriteReportFolder(options.report_dir, files);
   return 0;
 }

@@ -10,10 +10,29 @@ namespace mavloc {
 ImuDeadReckoning::ImuDeadReckoning(const EstimatorOptions& options)
     : output_rate_hz_(options.GetDouble("rate_hz", 50.0)) {}
 
+namespace {
+
+// A ground truth read from a pose-only file (TUM, an 8-column EuRoC CSV) has v_W = 0 in every row
+// although the body moves: starting from zero velocity would be silently wrong (issue 17, class 4).
+bool GroundTruthLacksVelocity(const std::vector<GroundTruthState>& truth) {
+  bool moves = false;
+  for (const auto& s : truth) {
+    if (s.v_W != Eigen::Vector3d::Zero()) return false;
+    moves = moves || (s.T_W_B.p - truth.front().T_W_B.p).norm() > 0.01;
+  }
+  return moves;
+}
+
+}  // namespace
+
 Applicability ImuDeadReckoning::AppliesTo(const Dataset& dataset) const {
   if (dataset.imu.samples.size() < 2) return Applicability::No("needs imu0 samples");
   if (dataset.ground_truth.empty())
     return Applicability::No("needs ground truth for the initial state");
+  if (GroundTruthLacksVelocity(dataset.ground_truth))
+    return Applicability::No(
+        "the ground truth has no velocity (a pose-only file: zero in every row while the body "
+        "moves); dead reckoning starts from the true velocity");
   const TimeNs t0 = dataset.ground_truth.front().t_ns;
   if (t0 < dataset.imu.samples.front().t_ns || t0 >= dataset.imu.samples.back().t_ns)
     return Applicability::No("ground truth starts outside the IMU stream");

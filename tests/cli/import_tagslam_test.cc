@@ -136,7 +136,7 @@ TEST_F(CliImportTagslamBroken, TheUnbrokenCopyImportsWithoutReference) {
 
 TEST_F(CliImportTagslamBroken, TagPoseNotANumber) {
   Replace("tagslam.yaml", "x: 0.93840377", "x: 0.93x");
-  ExpectCleanFailure("", "tagslam.yaml:49: field 'x': not a number");
+  ExpectCleanFailure("", "tagslam.yaml:49: field 'x': '0.93x' is not a number");
 }
 
 TEST_F(CliImportTagslamBroken, MissingIntrinsics) {

@@ -87,7 +87,7 @@ TEST(AprilgridTargetIo, BadDescriptionsNameFileLineAndField) {
   {
     const std::string e =
         ErrorOf(WriteYaml("t.yaml", "tagRows: 6\ntagCols: 6\ntagSize: abc\ntagSpacing: 0.3\n"));
-    EXPECT_NE(e.find("t.yaml:3: field 'tagSize': not a number"), std::string::npos) << e;
+    EXPECT_NE(e.find("t.yaml:3: field 'tagSize': 'abc' is not a number"), std::string::npos) << e;
   }
 }
 

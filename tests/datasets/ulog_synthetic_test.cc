@@ -4,6 +4,7 @@
 // cut at every byte offset.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -460,6 +461,75 @@ TEST_F(UlogSynthetic, TruncationAtEveryByteOffset) {
   EXPECT_GT(errors, 0);
   EXPECT_GT(notes, 0);
   EXPECT_GT(clean, 0);
+}
+
+// Regression (fuzz_ulog, UBSan signed-integer-overflow in SummarizeUlog): a data message stamped
+// beyond what 1000 * t_us can hold in int64 ns is a corrupt message, skipped with a note; the
+// summary and the IMU reader see only the valid ones.
+TEST_F(UlogSynthetic, StampTooLargeForNanosecondsIsACorruptMessage) {
+  UlogBytes log = NestedLog();
+  log.Data(1, SensorCombinedPayload(9151594818294213574ull, {1, 2, 3}, {4, 5, 6}));
+  log.Data(1, SensorCombinedPayload(ulog::kMaxStampUs, {1, 2, 3}, {4, 5, 6}));
+  const std::string path = log.Write(Path("huge_stamp.ulg"));
+  const UlogInfo info = ReadUlogInfo(path);
+  bool corrupt_note = false;
+  for (const std::string& n : info.notes)
+    corrupt_note = corrupt_note || n.find("2 malformed message") != std::string::npos;
+  EXPECT_TRUE(corrupt_note);
+  const LogSummary summary = SummarizeUlog(path);
+  EXPECT_EQ(summary.t_end_ns, 2030005000);  // the last valid stamp (instance 1)
+  EXPECT_EQ(ReadUlogImu(path, "sensor_combined").size(), 4u);
+  EXPECT_EQ(ulog::StampNs(ulog::kMaxStampUs - 1), int64_t{9'199'999'999'999'999'000});
+  EXPECT_FALSE(ulog::StampNsOfField(std::nan("")));
+  EXPECT_FALSE(ulog::StampNsOfField(-1.0));
+  EXPECT_FALSE(ulog::StampNsOfField(1e300));
+}
+
+TEST_F(UlogSynthetic, HeaderStampTooLargeIsAnError) {
+  UlogBytes log(1, ~uint64_t{0});
+  log.FlagBits(0);
+  const std::string path = log.Write(Path("huge_header_stamp.ulg"));
+  try {
+    ReadUlogInfo(path);
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("byte offset 8"), std::string::npos) << e.what();
+  }
+}
+
+// Regression (UBSan float-cast-overflow in ulog_trajectory.cc): frame codes and timestamp_sample
+// held in float fields of a corrupt log (NaN, 1e30, beyond int64 ns) are compared or checked as
+// doubles, never cast: a corrupt stamp skips the message, an unknown velocity frame drops the
+// velocities, an unknown pose frame is an InputError.
+TEST_F(UlogSynthetic, FloatFrameCodesAndHugeSampleStampsAreNotCast) {
+  const auto odometry_log = [](float pose_frame, float velocity_frame) {
+    UlogBytes log;
+    log.FlagBits(0);
+    log.Format(
+        "vehicle_odometry:uint64_t timestamp;double timestamp_sample;float pose_frame;float[3] "
+        "position;float[4] q;float velocity_frame;float[3] velocity;");
+    log.Add(0, 0, "vehicle_odometry");
+    for (const double t_sample_us : {1e30, 4000.0}) {
+      std::vector<uint8_t> p;
+      UlogBytes::PutTo(&p, uint64_t{5000});
+      UlogBytes::PutTo(&p, t_sample_us);
+      UlogBytes::PutTo(&p, pose_frame);
+      for (const float c : {1.0f, 2.0f, -3.0f, 1.0f, 0.0f, 0.0f, 0.0f}) UlogBytes::PutTo(&p, c);
+      UlogBytes::PutTo(&p, velocity_frame);
+      for (const float c : {1.0f, 0.0f, 0.0f}) UlogBytes::PutTo(&p, c);
+      log.Data(0, p);
+    }
+    return log;
+  };
+  const std::string path = odometry_log(1.0f, std::nanf("")).Write(Path("nan_frame.ulg"));
+  const LogTrajectory odom = ReadUlogTrajectory(Spec(path, "vehicle_odometry"));
+  ASSERT_EQ(odom.states.size(), 1u);  // the 1e30 us stamp is skipped
+  EXPECT_EQ(odom.states[0].t_ns, 4000000);
+  EXPECT_FALSE(odom.has_velocity);
+  const std::string bad_pose = odometry_log(1e30f, 1.0f).Write(Path("huge_frame.ulg"));
+  EXPECT_THROW(ReadUlogTrajectory(Spec(bad_pose, "vehicle_odometry")), InputError);
+  const std::string half = odometry_log(1.5f, 1.0f).Write(Path("half_frame.ulg"));
+  EXPECT_THROW(ReadUlogTrajectory(Spec(half, "vehicle_odometry")), InputError);
 }
 
 }  // namespace

@@ -25,11 +25,6 @@ Eigen::Vector3d ReadXyz(const YAML::Node& node, const std::string& field, const 
 
 }  // namespace
 
-long YamlLine(const YAML::Node& node) {
-  if (!node.IsDefined() || node.Mark().is_null()) return 0;
-  return node.Mark().line + 1;
-}
-
 int YamlInt(const YAML::Node& node, const std::string& field, const std::string& path) {
   const YAML::Node value = Required(node, field, path);
   try {
@@ -62,12 +57,6 @@ bool YamlBool(const YAML::Node& node, const std::string& field, const std::strin
   } catch (const YAML::Exception&) {
     throw InputError(path, YamlLine(value), field, "not true/false");
   }
-}
-
-std::string YamlString(const YAML::Node& node, const std::string& field, const std::string& path) {
-  const YAML::Node value = Required(node, field, path);
-  if (!value.IsScalar()) throw InputError(path, YamlLine(value), field, "not a text value");
-  return value.as<std::string>();
 }
 
 TimeNs YamlRosTime(const YAML::Node& node, const std::string& field, const std::string& path) {

@@ -1,5 +1,6 @@
 // Typed access to TagSLAM's YAML files (tagslam.yaml, cameras.yaml, camera_poses.yaml), with
-// errors naming the file, the line and the field (core/errors.h InputError).
+// errors naming the file, the line and the field (core/errors.h InputError); the generic typed
+// helpers (YamlLine, YamlString, YamlDouble) are those of datasets/io/yaml_util.h.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -9,18 +10,15 @@
 
 #include "core/pose.h"
 #include "core/time.h"
+#include "datasets/io/yaml_util.h"  // YamlLine, YamlString, YamlDouble
 
 namespace mavloc {
-
-// 1-based line of a node (0 when the node has no position, e.g. a missing one).
-long YamlLine(const YAML::Node& node);
 
 int YamlInt(const YAML::Node& node, const std::string& field, const std::string& path);
 // A list of integers; an absent field is an empty list.
 std::vector<int> YamlInts(const YAML::Node& node, const std::string& field,
                           const std::string& path);
 bool YamlBool(const YAML::Node& node, const std::string& field, const std::string& path);
-std::string YamlString(const YAML::Node& node, const std::string& field, const std::string& path);
 // A ROS time "seconds.nanoseconds" (tag_id_remap start_time/end_time) -> ns, exactly.
 TimeNs YamlRosTime(const YAML::Node& node, const std::string& field, const std::string& path);
 

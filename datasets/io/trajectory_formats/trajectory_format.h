@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "core/dataset.h"
+#include "core/physical_limits.h"
 #include "core/pose.h"
 
 namespace mavloc {
@@ -41,8 +42,9 @@ enum class TrajectoryFormat { kAuto, kTum, kEuroc, kAsl, kKitti, kLog };
 std::optional<TrajectoryFormat> ParseTrajectoryFormat(const std::string& name);
 std::string TrajectoryFormatName(TrajectoryFormat format);  // "auto", "tum", ...
 
-// Largest accepted | |q| - 1 | (and max |R^T R - I| for KITTI) before normalising.
-constexpr double kQuaternionNormTolerance = 0.05;
+// Largest accepted | |q| - 1 | (and max |R^T R - I| for KITTI) before normalising: the one
+// tolerance of every reader (core/physical_limits.h).
+constexpr double kQuaternionNormTolerance = limits::kUnitNormTolerance;
 
 struct TrajectoryReadOptions {
   TrajectoryFormat format = TrajectoryFormat::kAuto;

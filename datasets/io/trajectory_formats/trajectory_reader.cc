@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "core/errors.h"
+#include "core/physical_limits.h"
 #include "datasets/io/trajectory_formats/kitti_poses.h"
 #include "datasets/io/trajectory_formats/trajectory_columns.h"
 #include "datasets/io/trajectory_formats/trajectory_format.h"
@@ -40,10 +41,19 @@ double Number(const std::string& path, const TrajectoryRow& row, const PoseColum
   return value;
 }
 
+// Three columns, each within +-max_abs (a sanity range of core/physical_limits.h).
 Eigen::Vector3d Vector(const std::string& path, const TrajectoryRow& row,
-                       const PoseColumnLayout& layout, const std::array<int, 3>& columns) {
-  return {Number(path, row, layout, columns[0]), Number(path, row, layout, columns[1]),
-          Number(path, row, layout, columns[2])};
+                       const PoseColumnLayout& layout, const std::array<int, 3>& columns,
+                       double max_abs, const char* unit) {
+  Eigen::Vector3d v;
+  for (int i = 0; i < 3; ++i) {
+    v[i] = Number(path, row, layout, columns[i]);
+    if (!(std::abs(v[i]) <= max_abs))
+      throw InputError(path, row.line, layout.Name(columns[i]),
+                       "'" + row.fields[columns[i]] + "' is outside " +
+                           limits::RangeText(-max_abs, max_abs, unit));
+  }
+  return v;
 }
 
 PoseColumnLayout ChooseLayout(const TrajectoryText& text, TrajectoryFormat format, bool forced) {
@@ -105,7 +115,7 @@ std::vector<RowState> ParsePoseRows(const TrajectoryText& text, const PoseColumn
       throw InputError(text.path, row.line, layout.Name(layout.t),
                        fmt::format("'{}' is not a non-negative time in {}", stamp,
                                    layout.unit == StampUnit::kSeconds ? "seconds" : "nanoseconds"));
-    r.state.T_W_B.p = Vector(text.path, row, layout, layout.p);
+    r.state.T_W_B.p = Vector(text.path, row, layout, layout.p, limits::kMaxPosition_m, "m");
     const Eigen::Quaterniond q(Number(text.path, row, layout, layout.q_wxyz[0]),
                                Number(text.path, row, layout, layout.q_wxyz[1]),
                                Number(text.path, row, layout, layout.q_wxyz[2]),
@@ -119,10 +129,11 @@ std::vector<RowState> ParsePoseRows(const TrajectoryText& text, const PoseColumn
     if (norm_error > 1e-6) ++report->quaternions_normalised;
     report->max_quaternion_norm_error = std::max(report->max_quaternion_norm_error, norm_error);
     r.state.T_W_B.q = q.normalized();
-    if (layout.HasVelocity()) r.state.v_W = Vector(text.path, row, layout, layout.v);
+    if (layout.HasVelocity())
+      r.state.v_W = Vector(text.path, row, layout, layout.v, limits::kMaxSpeed_m_s, "m/s");
     if (layout.HasBiases()) {
-      r.state.b_g = Vector(text.path, row, layout, layout.b_g);
-      r.state.b_a = Vector(text.path, row, layout, layout.b_a);
+      r.state.b_g = Vector(text.path, row, layout, layout.b_g, limits::kMaxGyroBias_rad_s, "rad/s");
+      r.state.b_a = Vector(text.path, row, layout, layout.b_a, limits::kMaxAccelBias_m_s2, "m/s^2");
     }
     rows.push_back(r);
   }

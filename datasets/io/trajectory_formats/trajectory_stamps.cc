@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/physical_limits.h"
 #include "datasets/io/trajectory_formats/trajectory_text.h"
 
 namespace mavloc {
@@ -18,15 +19,19 @@ bool ParseSecondsAsNs(const std::string& text, TimeNs* t_ns) {
   const std::string integer = body.substr(0, dot);
   const std::string fraction = dot == std::string::npos ? "" : body.substr(dot + 1);
   if (!integer.empty() && Digits(integer) && Digits(fraction) && integer.size() < 11) {
+    const long long whole_s = std::stoll(integer);  // at most 10 digits: no overflow
+    if (whole_s >= limits::kMaxTimestampNs / kNsPerSecond) return false;
     std::string nanos = fraction.substr(0, 9);
     nanos.resize(9, '0');
-    TimeNs t = std::stoll(integer) * kNsPerSecond + std::stoll(nanos);
+    TimeNs t = whole_s * kNsPerSecond + std::stoll(nanos);
     if (fraction.size() > 9 && fraction[9] >= '5') ++t;
     *t_ns = t;
     return true;
   }
   double seconds = 0.0;
-  if (!ParseFiniteDouble(text, &seconds) || seconds < 0.0 || seconds > 9.2e9) return false;
+  if (!ParseFiniteDouble(text, &seconds) || seconds < 0.0 ||
+      !(seconds * 1e9 <= static_cast<double>(limits::kMaxTimestampNs)))
+    return false;
   *t_ns = SecondsToNs(seconds);
   return true;
 }
@@ -34,14 +39,12 @@ bool ParseSecondsAsNs(const std::string& text, TimeNs* t_ns) {
 bool ParseNanoseconds(const std::string& text, TimeNs* t_ns) {
   if (!text.empty() && Digits(text) && text.size() <= 18) {
     *t_ns = std::stoll(text);
-    return true;
-  }
-  if (!text.empty() && Digits(text) && text.size() == 19 && text <= "9223372036854775807") {
-    *t_ns = std::stoll(text);
-    return true;
+    return *t_ns <= limits::kMaxTimestampNs;
   }
   double ns = 0.0;
-  if (!ParseFiniteDouble(text, &ns) || ns < 0.0 || ns > 9.2e18) return false;
+  if (!ParseFiniteDouble(text, &ns) || ns < 0.0 ||
+      !(ns <= static_cast<double>(limits::kMaxTimestampNs)))
+    return false;
   *t_ns = static_cast<TimeNs>(std::llround(ns));
   return true;
 }

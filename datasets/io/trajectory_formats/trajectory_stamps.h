@@ -9,7 +9,8 @@
 
 namespace mavloc {
 
-// false when the text is not a finite, non-negative number (or the nanoseconds overflow).
+// false when the text is not a finite, non-negative number or lies beyond limits::kMaxTimestampNs
+// (core/physical_limits.h).
 bool ParseSecondsAsNs(const std::string& text, TimeNs* t_ns);
 bool ParseNanoseconds(const std::string& text, TimeNs* t_ns);
 

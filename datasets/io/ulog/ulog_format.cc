@@ -192,6 +192,17 @@ uint64_t ReadUint64(const uint8_t* data) {
   return v;
 }
 
+std::optional<int64_t> StampNs(uint64_t t_us) {
+  if (t_us >= kMaxStampUs) return std::nullopt;
+  return static_cast<int64_t>(t_us) * 1000;
+}
+
+std::optional<int64_t> StampNsOfField(double t_us) {
+  // kMaxStampUs is a multiple of 2^16, exact as a double.
+  if (!(t_us >= 0.0 && t_us < static_cast<double>(kMaxStampUs))) return std::nullopt;
+  return StampNs(static_cast<uint64_t>(t_us));
+}
+
 uint16_t ReadUint16(const uint8_t* data) { return static_cast<uint16_t>(data[0] | (data[1] << 8)); }
 
 double ReadFieldAsDouble(const uint8_t* data, const FlatField& field) {

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -72,5 +73,12 @@ bool FlattenFormat(const std::map<std::string, MessageFormat>& formats, const st
 double ReadFieldAsDouble(const uint8_t* data, const FlatField& field);
 uint64_t ReadUint64(const uint8_t* data);
 uint16_t ReadUint16(const uint8_t* data);
+
+// A ULog stamp (microseconds since boot) as mavloc's int64 nanoseconds, 1000 * t_us; nullopt for a
+// stamp no log can hold (kMaxStampUs and above, about 290 years, where 1000 * t_us would overflow)
+// and, for a stamp read from a floating-point field (timestamp_sample), for NaN or negative values.
+constexpr uint64_t kMaxStampUs = 9'200'000'000'000'000;
+std::optional<int64_t> StampNs(uint64_t t_us);
+std::optional<int64_t> StampNsOfField(double t_us);
 
 }  // namespace mavloc::ulog

@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <optional>
 
 #include "core/errors.h"
+#include "datasets/io/ulog/ulog_format.h"
 #include "datasets/io/ulog/ulog_frames.h"
 #include "datasets/io/ulog/ulog_reader.h"
 #include "datasets/io/ulog/ulog_topic_fields.h"
@@ -42,7 +44,7 @@ std::vector<ImuSample> FromSensorCombined(const std::string& path, const std::st
                           if (v[6] == kRelativeTimestampInvalid)
                             return;  // NaN when the field is absent
                           ImuSample s;
-                          s.t_ns = static_cast<TimeNs>(t_us) * 1000;
+                          s.t_ns = *ulog::StampNs(t_us);  // checked by the scanner
                           s.gyro_rad_s = ulog::FrdToFlu(Vec3(v));
                           s.accel_m_s2 = ulog::FrdToFlu(Vec3(v + 3));
                           Push(&samples, s);
@@ -70,9 +72,10 @@ std::vector<ImuSample> FromVehicleImu(const std::string& path, const std::string
                           const double dt_velocity_s = v[7] * 1e-6;
                           if (!(dt_angle_s > 0.0) || !(dt_velocity_s > 0.0)) return;
                           ImuSample s;
-                          const double t_sample_us =
-                              std::isnan(v[8]) ? static_cast<double>(t_us) : v[8];
-                          s.t_ns = static_cast<TimeNs>(t_sample_us) * 1000;
+                          const std::optional<TimeNs> t_ns =
+                              std::isnan(v[8]) ? ulog::StampNs(t_us) : ulog::StampNsOfField(v[8]);
+                          if (!t_ns) return;  // a corrupt timestamp_sample
+                          s.t_ns = *t_ns;
                           s.gyro_rad_s = ulog::FrdToFlu(Vec3(v) / dt_angle_s);
                           s.accel_m_s2 = ulog::FrdToFlu(Vec3(v + 3) / dt_velocity_s);
                           Push(&samples, s);

@@ -4,7 +4,8 @@
 //
 // Topics are named as in the log ("sensor_combined"); a multi-instance topic's later instances
 // are selected as "name.N" (N = the 'A' message's multi_id, e.g. "vehicle_imu.1"); "name" alone
-// is instance 0. Timestamps are the logged uint64 microseconds since boot, as t_ns = 1000 * t_us.
+// is instance 0. Timestamps are the logged uint64 microseconds since boot, as t_ns = 1000 * t_us;
+// a data message whose stamp is too large for that (ulog_format.h, StampNs) is a corrupt message.
 //
 // Frames (PX4: docs.px4.io "Coordinate Frames"; mavloc: DESIGN.md, W z up, B = IMU):
 //   PX4 body frame FRD (x forward, y right, z down) -> mavloc B = FLU:  R_FLU_FRD = diag(1, -1,
@@ -93,8 +94,9 @@ using UlogProgress = std::function<void(uint64_t bytes_done, uint64_t bytes_tota
 // gyro's `timestamp`) or "vehicle_imu[.N]" (delta_angle / delta_angle_dt and delta_velocity /
 // delta_velocity_dt, mean rates over the integration interval, stamped at `timestamp_sample`).
 // Messages with non-finite values, a zero dt, an invalid accelerometer stamp
-// (accelerometer_timestamp_relative = INT32_MAX) or a stamp not after the previous one are
-// skipped. Throws InputError for a missing topic, a topic of another type, or missing fields.
+// (accelerometer_timestamp_relative = INT32_MAX), a corrupt stamp (ulog_format.h, StampNs) or a
+// stamp not after the previous one are skipped. Throws InputError for a missing topic, a topic of
+// another type, or missing fields.
 std::vector<ImuSample> ReadUlogImu(const std::string& path, const std::string& topic,
                                    const UlogProgress& progress = {});
 
@@ -109,8 +111,9 @@ std::vector<ImuSample> ReadUlogImu(const std::string& path, const std::string& t
 //   into W with the message's own q. Covariance is filled when the message carries finite,
 //   non-negative, not-all-zero values.
 // Stamps are timestamp_sample when the topic has it, else timestamp. Messages with an invalid
-// pose (NaN, a non-unit q, both xy_valid and z_valid false) are skipped, and so are repeated
-// stamps; a local position with only z valid is kept (x, y as logged).
+// pose (NaN, a non-unit q, both xy_valid and z_valid false) or a corrupt stamp (ulog_format.h,
+// StampNs) are skipped, and so are repeated stamps; a local position with only z valid is kept
+// (x, y as logged).
 // parent_frame is "world_enu" (from NED) or "world_flu" (from an FRD earth frame); child_frame is
 // "body_flu", or "body_position_only" for vehicle_local_position.
 // The instance is the topic's ".N" suffix or, without one, spec.instance.

@@ -73,6 +73,8 @@ class Scanner {
     info_.t_start_us = stream_.header_timestamp_us();
     info_.t_last_us = info_.t_start_us;
     info_.file_bytes = stream_.file_bytes();
+    if (!StampNs(info_.t_start_us))
+      Fail(8, fmt::format("header timestamp {} us is not a time since boot", info_.t_start_us));
   }
 
   UlogInfo Run() {
@@ -348,6 +350,10 @@ class Scanner {
     const uint8_t* data = m.data + 2;
     uint64_t t_us = 0;
     if (sub.layout.timestamp_offset >= 0) t_us = ReadUint64(data + sub.layout.timestamp_offset);
+    if (!StampNs(t_us)) {  // no log runs for centuries: a corrupt message
+      ++skipped_corrupt_;
+      return;
+    }
     if (sub.messages == 0) sub.t_first_us = t_us;
     sub.t_last_us = t_us;
     info_.t_last_us = std::max(info_.t_last_us, t_us);

@@ -5,8 +5,10 @@
 
 #include <cmath>
 #include <functional>
+#include <optional>
 
 #include "core/errors.h"
+#include "datasets/io/ulog/ulog_format.h"
 #include "datasets/io/ulog/ulog_frames.h"
 #include "datasets/io/ulog/ulog_reader.h"
 #include "datasets/io/ulog/ulog_topic_fields.h"
@@ -42,10 +44,11 @@ class Columns {
   Eigen::Quaterniond Quat(size_t row) const {  // PX4 q[4] is (w, x, y, z)
     return {Get(row, "q[0]"), Get(row, "q[1]"), Get(row, "q[2]"), Get(row, "q[3]")};
   }
-  // timestamp_sample (when the data was sampled) if the topic has it, else timestamp.
-  TimeNs StampNs(size_t row) const {
-    if (Has("timestamp_sample")) return static_cast<TimeNs>(Get(row, "timestamp_sample")) * 1000;
-    return static_cast<TimeNs>(table_.t_us[row]) * 1000;
+  // timestamp_sample (when the data was sampled) if the topic has it, else timestamp; nullopt
+  // for a corrupt stamp (ulog::StampNs).
+  std::optional<TimeNs> StampNs(size_t row) const {
+    if (Has("timestamp_sample")) return ulog::StampNsOfField(Get(row, "timestamp_sample"));
+    return ulog::StampNs(table_.t_us[row]);
   }
 
  private:
@@ -102,8 +105,10 @@ LogTrajectory FromAttitude(const std::string& path, const std::string& topic,
   for (size_t i = 0; i < table.rows(); ++i) {
     const Eigen::Quaterniond q_ned_frd = c.Quat(i);
     if (!QuaternionValid(q_ned_frd)) continue;
+    const std::optional<TimeNs> t_ns = c.StampNs(i);
+    if (!t_ns) continue;
     GroundTruthState state;
-    state.t_ns = c.StampNs(i);
+    state.t_ns = *t_ns;
     state.T_W_B.q = ulog::ToMavlocQuaternion(ulog::R_ENU_NED(), q_ned_frd);
     PushState(&trajectory, state, nullptr);
   }
@@ -131,8 +136,10 @@ LogTrajectory FromLocalPosition(const std::string& path, const std::string& topi
     // A message is kept when its horizontal or its vertical position is valid: PX4 logs z alone
     // (baro) without a horizontal fix, keeping x = y at their last value.
     if ((!flag(i, "xy_valid") && !flag(i, "z_valid")) || !p_ned.allFinite()) continue;
+    const std::optional<TimeNs> t_ns = c.StampNs(i);
+    if (!t_ns) continue;
     GroundTruthState state;
-    state.t_ns = c.StampNs(i);
+    state.t_ns = *t_ns;
     state.T_W_B.p = ulog::NedToEnu(p_ned);
     if (all_velocities) {
       const Eigen::Vector3d v_ned = c.Vec3(i, "vx", "vy", "vz");
@@ -155,9 +162,11 @@ LogTrajectory FromLocalPosition(const std::string& path, const std::string& topi
 // The earth-frame code of a vehicle_odometry message -> the rotation into mavloc's W and its
 // name. PX4 >= 1.14 pose_frame: 1 NED, 2 FRD; older local_frame: 0 NED, 1 FRD.
 bool EarthFrame(bool new_layout, double code, Eigen::Matrix3d* R_W_Wpx4, const char** name) {
-  const int frame = static_cast<int>(code);
-  const int ned = new_layout ? 1 : 0;
-  const int frd = new_layout ? 2 : 1;
+  // Compared as doubles: a corrupt log may declare the field as a float holding NaN or 1e300,
+  // whose conversion to int would be undefined.
+  const double frame = code;
+  const double ned = new_layout ? 1 : 0;
+  const double frd = new_layout ? 2 : 1;
   if (frame == ned) {
     *R_W_Wpx4 = ulog::R_ENU_NED();
     *name = kWorldEnu;
@@ -232,12 +241,14 @@ LogTrajectory FromOdometry(const std::string& path, const std::string& topic,
     const Eigen::Vector3d p = c.Vec3(i, p0, p1, p2);
     const Eigen::Quaterniond q = c.Quat(i);
     if (!p.allFinite() || !QuaternionValid(q)) continue;
+    const std::optional<TimeNs> t_ns = c.StampNs(i);
+    if (!t_ns) continue;
     GroundTruthState state;
-    state.t_ns = c.StampNs(i);
+    state.t_ns = *t_ns;
     state.T_W_B = Pose(ulog::ToMavlocQuaternion(R_W_Wpx4, q), R_W_Wpx4 * p);
     if (all_velocities) {
       const Eigen::Vector3d v = c.Vec3(i, v0, v1, v2);
-      const int vframe = static_cast<int>(c.Get(i, "velocity_frame"));
+      const double vframe = c.Get(i, "velocity_frame");  // as doubles, see EarthFrame
       // Velocity frames: PX4 >= 1.14 1 NED, 2 FRD earth, 3 FRD body; older 0 NED, 1 FRD earth,
       // 3 FRD body.
       const int ned = new_layout ? 1 : 0;

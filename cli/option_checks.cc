@@ -1,0 +1,179 @@
+#include "cli/option_checks.h"
+
+#include <fmt/format.h>
+
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <optional>
+#include <set>
+
+#include "cli/commands.h"
+#include "core/errors.h"
+#include "datasets/scenarios/scenario.h"
+
+namespace mavloc::cli {
+
+namespace {
+
+// The whole text as a double, or nullopt ("1.5x", "", "0x10" and locale tricks are refused).
+std::optional<double> ParseDouble(const std::string& text) {
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text.front()))) return std::nullopt;
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size()) return std::nullopt;
+  if (text.find_first_of("xXpP") != std::string::npos) return std::nullopt;  // hex floats
+  return value;
+}
+
+std::string Short(const std::string& text) { return PrintableMessage(text, 60); }
+
+std::string Bounds(double min, bool min_open, double max, const std::string& unit) {
+  return fmt::format("{}{}, {}]{}", min_open ? "(" : "[", min, max, unit.empty() ? "" : " " + unit);
+}
+
+CLI::Validator NumberValidator(double min, bool min_open, double max, const std::string& unit,
+                               const std::string& description) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        const auto value = ParseDouble(text);
+        if (!value) return "'" + Short(text) + "' is not a number";
+        if (!std::isfinite(*value)) return "'" + Short(text) + "' is not a finite number";
+        if ((min_open ? !(*value > min) : !(*value >= min)) || !(*value <= max))
+          return "'" + Short(text) + "' is outside " + Bounds(min, min_open, max, unit);
+        return "";
+      },
+      description);
+}
+
+}  // namespace
+
+CLI::Validator FiniteNumber() {
+  const double inf = std::numeric_limits<double>::max();
+  return NumberValidator(-inf, false, inf, "", "FINITE");
+}
+
+CLI::Validator PositiveFinite() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        const auto value = ParseDouble(text);
+        if (!value) return "'" + Short(text) + "' is not a number";
+        if (!std::isfinite(*value)) return "'" + Short(text) + "' is not a finite number";
+        if (!(*value > 0.0)) return "'" + Short(text) + "' must be > 0";
+        return "";
+      },
+      "POSITIVE");
+}
+
+CLI::Validator FiniteRange(double min, double max, const std::string& unit) {
+  return NumberValidator(min, false, max, unit, "in " + Bounds(min, false, max, unit));
+}
+
+CLI::Validator PositiveAtMost(double max, const std::string& unit) {
+  return NumberValidator(0.0, true, max, unit, "in " + Bounds(0.0, true, max, unit));
+}
+
+CLI::Validator WholeNumber(long long min, long long max) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        const bool negative = !text.empty() && text[0] == '-';
+        const std::string digits = negative ? text.substr(1) : text;
+        if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos)
+          return "'" + Short(text) + "' is not a whole number";
+        errno = 0;
+        const long long value = std::strtoll(text.c_str(), nullptr, 10);
+        if (errno == ERANGE || value < min || value > max)
+          return fmt::format("'{}' is outside [{}, {}]", Short(text), min, max);
+        return "";
+      },
+      fmt::format("in [{}, {}]", min, max));
+}
+
+CLI::Validator SeedNumber() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+          return "'" + Short(text) + "' is not a seed (a whole number 0 .. 18446744073709551615)";
+        errno = 0;
+        std::strtoull(text.c_str(), nullptr, 10);
+        if (errno == ERANGE)
+          return "'" + Short(text) + "' is larger than the largest seed, 18446744073709551615";
+        return "";
+      },
+      "SEED");
+}
+
+CLI::Option* AddSeedOption(CLI::App* command, uint64_t* seed, const std::string& description) {
+  return command->add_option("--seed", *seed, description)
+      ->check(SeedNumber())
+      ->capture_default_str();
+}
+
+CLI::Option* AddScenarioDurationOption(CLI::App* command, double* duration_s,
+                                       const std::string& description) {
+  return command
+      ->add_option("--duration", *duration_s,
+                   description + fmt::format(" (at most {} s)", kMaxScenarioDurationS))
+      ->check(PositiveAtMost(kMaxScenarioDurationS, "s"));
+}
+
+std::map<std::string, EstimatorOptions> EstimatorOptionsFor(const std::vector<std::string>& items,
+                                                            const std::vector<std::string>& names) {
+  const std::set<std::string> run(names.begin(), names.end());
+  std::map<std::string, EstimatorOptions> options;
+  for (const auto& name : names) options[name];
+  std::vector<std::string> global;
+  for (const auto& item : items) {
+    const auto colon = item.find(':');
+    const auto eq = item.find('=');
+    if (colon == std::string::npos || (eq != std::string::npos && eq < colon)) {
+      global.push_back(item);
+      continue;
+    }
+    const std::string name = item.substr(0, colon);
+    const EstimatorEntry* entry = FindEstimator(name);
+    if (!entry) {
+      std::string known;
+      for (const auto& e : EstimatorRegistry()) known += (known.empty() ? "" : ", ") + e.name;
+      throw InputError("--option " + item + ": '" + name +
+                       "' is not an estimator (known: " + known + ")");
+    }
+    if (!run.count(name)) {
+      std::string listed;
+      for (const auto& n : names) listed += (listed.empty() ? "" : ", ") + n;
+      throw InputError("--option " + item + ": estimator " + name +
+                       " is not part of this run (estimators: " + listed + ")");
+    }
+    for (const auto& [key, value] : ParseKeyValues({item.substr(colon + 1)}, "--option")) {
+      EstimatorOptions one;
+      one.Set(key, value);
+      CheckEstimatorOptions(*entry, one);
+      options[name].Set(key, value);
+    }
+  }
+  for (const auto& [key, value] : ParseKeyValues(global, "--option")) {
+    bool used = false;
+    std::set<std::string> known;
+    for (const auto& name : names) {
+      const EstimatorEntry* entry = FindEstimator(name);
+      if (!entry) continue;
+      known.insert(entry->options.begin(), entry->options.end());
+      if (!entry->HasOption(key)) continue;
+      used = true;
+      if (!options[name].Has(key)) options[name].Set(key, value);  // name:key=value wins
+    }
+    if (!used) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      if (list.size() > 600)
+        list = fmt::format("{} options: `mavloc list --options`", known.size());
+      throw InputError("--option " + key + "=" + value + ": no estimator of this run has option '" +
+                       key + "' (known: " + list + ")");
+    }
+  }
+  return options;
+}
+
+}  // namespace mavloc::cli

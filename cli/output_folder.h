@@ -1,0 +1,51 @@
+// Output folders written whole or not at all (issue 17, "Data integrity"): a command writes into a
+// fresh staging folder "<target>.tmp-<pid>" beside the target and, once everything is written,
+// puts it in the target's place. So a new dataset never keeps the streams of an older one (e.g. its
+// tags0/), a report folder never keeps the files of an earlier report, an error leaves nothing, and
+// SIGINT/SIGTERM remove the staging folder (core/interrupt.h).
+#pragma once
+
+#include <string>
+
+namespace mavloc::cli {
+
+enum class FolderKind {
+  kDataset,  // written by `mavloc simulate`: replaces a mavloc dataset (mav0/ + scenario.yaml or
+             // import.yaml) or an empty folder
+  kReport,   // compare, eval, repro, obstacles: replaces a report (report.json, report.md or
+             // eval.json) or an empty folder
+};
+
+// "<target>.tmp-<pid>" for the target written with a trailing "/" removed: where StagedFolder and
+// WriteEurocDatasetAtomically stage their output.
+std::string StagingPathFor(const std::string& target);
+
+class StagedFolder {
+ public:
+  // Checks the target before any work is done (throws InputError): its parent folder must exist,
+  // and an existing target must be a folder that is empty or of `kind` (another folder is never
+  // replaced: the message says what it holds). Then creates the staging folder.
+  StagedFolder(const std::string& target, FolderKind kind);
+  // Removes the staging folder unless Commit() succeeded.
+  ~StagedFolder();
+  StagedFolder(const StagedFolder&) = delete;
+  StagedFolder& operator=(const StagedFolder&) = delete;
+
+  // Where the command writes its files.
+  const std::string& path() const { return staging_; }
+  // `text` with the staging path replaced by the target as the user wrote it (for messages that
+  // name files written into the staging folder).
+  std::string ForUser(std::string text) const;
+  // Puts the staging folder in the target's place: an existing target is exchanged with it in one
+  // step (renameat2 RENAME_EXCHANGE; rename-aside-and-back where the file system lacks it) and its
+  // old content removed. Throws InputError when the rename fails.
+  void Commit();
+
+ private:
+  std::string target_;
+  std::string staging_;
+  long interrupt_token_ = 0;
+  bool committed_ = false;
+};
+
+}  // namespace mavloc::cli

@@ -1,0 +1,36 @@
+// The Cramér–Rao section of a `mavloc compare` report (issue 15): on a simulated dataset the
+// smoother's bound (evaluation/crlb/smoother_bound.h), per quantity as a standard deviation (RMS
+// over the keyframes) for smoothing and filtering, and every estimator's RMSE / bound at the
+// keyframes where it has a pose (smoother: smoothing bound; causal estimators: filtering bound).
+// One dataset is one Monte-Carlo draw: `mavloc repro smoother` averages over seeds.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/dataset.h"
+#include "evaluation/comparison.h"
+#include "evaluation/crlb/smoother_bound.h"
+
+namespace mavloc {
+
+struct CrlbReport {
+  bool available = false;
+  std::string reason;    // why not, when !available
+  std::string markdown;  // a "## Cramér–Rao bound" section
+  std::string text;      // the same tables for stdout
+  nlohmann::json json;
+};
+
+CrlbReport MakeCrlbReport(const Dataset& dataset,
+                          const std::vector<EstimatorEvaluation>& evaluations,
+                          const EstimatorOptions& smoother_options);
+
+// Per-quantity RMS over the keyframes of the bound's standard deviations (x y z [m], roll pitch
+// yaw [rad], vx vy vz [m/s], bgx.. [rad/s], bax.. [m/s^2]); filtering over the keyframes where
+// it exists.
+std::vector<std::pair<std::string, double>> BoundQuantityRms(const SmootherCrlb& bound,
+                                                             bool filtering);
+
+}  // namespace mavloc

@@ -1,0 +1,81 @@
+#include "evaluation/crlb/efficiency.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/rotation.h"
+
+namespace mavloc {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+double Ratio(double a, double b) { return b > 0.0 ? std::sqrt(a / b) : kNaN; }
+}  // namespace
+
+void EfficiencySums::Add(const EfficiencySums& o) {
+  position_error2 += o.position_error2;
+  position_bound2 += o.position_bound2;
+  attitude_error2 += o.attitude_error2;
+  attitude_bound2 += o.attitude_bound2;
+  frames += o.frames;
+  runs += o.runs;
+  for (auto [to, from] : {std::pair{&run_position_error2, &o.run_position_error2},
+                          std::pair{&run_position_bound2, &o.run_position_bound2},
+                          std::pair{&run_attitude_error2, &o.run_attitude_error2},
+                          std::pair{&run_attitude_bound2, &o.run_attitude_bound2}})
+    to->insert(to->end(), from->begin(), from->end());
+  for (const auto& [t, v] : o.per_time) {
+    auto& cell = per_time[t];
+    for (size_t i = 0; i < v.size(); ++i) cell[i] += v[i];
+  }
+}
+
+double EfficiencySums::PositionBoundRms() const {
+  return frames > 0 ? std::sqrt(position_bound2 / frames) : kNaN;
+}
+double EfficiencySums::AttitudeBoundRms() const {
+  return frames > 0 ? std::sqrt(attitude_bound2 / frames) : kNaN;
+}
+double EfficiencySums::PositionRatio() const { return Ratio(position_error2, position_bound2); }
+double EfficiencySums::AttitudeRatio() const { return Ratio(attitude_error2, attitude_bound2); }
+
+EfficiencySums CompareWithBound(const SmootherCrlb& bound, const std::vector<StampedPose>& poses,
+                                BoundKind kind, TimeNs max_dt_ns) {
+  EfficiencySums s;
+  if (!bound.ok || poses.empty()) return s;
+  std::vector<StampedPose> sorted = poses;
+  std::sort(sorted.begin(), sorted.end(),
+            [](const StampedPose& a, const StampedPose& b) { return a.t_ns < b.t_ns; });
+  for (const CrlbKeyframe& kf : bound.keyframes) {
+    const Matrix15d* C = kind == BoundKind::kSmoothing ? &kf.smoothing
+                         : kf.filtering                ? &*kf.filtering
+                                                       : nullptr;
+    if (!C) continue;
+    auto it = std::lower_bound(sorted.begin(), sorted.end(), kf.t_ns - max_dt_ns,
+                               [](const StampedPose& p, TimeNs t) { return p.t_ns < t; });
+    const StampedPose* best = nullptr;
+    for (; it != sorted.end() && it->t_ns <= kf.t_ns + max_dt_ns; ++it)
+      if (!best || std::abs(it->t_ns - kf.t_ns) < std::abs(best->t_ns - kf.t_ns)) best = &*it;
+    if (!best) continue;
+    const double angle = LogQuaternion(kf.T_W_B.q.conjugate() * best->T_W_B.q).norm();
+    s.position_error2 += (best->T_W_B.p - kf.T_W_B.p).squaredNorm();
+    s.attitude_error2 += angle * angle;
+    s.position_bound2 += C->block<3, 3>(kCrlbP, kCrlbP).trace();
+    s.attitude_bound2 += C->block<3, 3>(kCrlbTheta, kCrlbTheta).trace();
+    ++s.frames;
+    s.per_time[(kf.t_ns + 500'000) / 1'000'000 * 1'000'000] = {
+        (best->T_W_B.p - kf.T_W_B.p).squaredNorm(), C->block<3, 3>(kCrlbP, kCrlbP).trace(),
+        angle * angle, C->block<3, 3>(kCrlbTheta, kCrlbTheta).trace(), 1.0};
+  }
+  if (s.frames > 0) {
+    s.runs = 1;
+    s.run_position_error2 = {s.position_error2 / s.frames};
+    s.run_position_bound2 = {s.position_bound2 / s.frames};
+    s.run_attitude_error2 = {s.attitude_error2 / s.frames};
+    s.run_attitude_bound2 = {s.attitude_bound2 / s.frames};
+  }
+  return s;
+}
+
+}  // namespace mavloc

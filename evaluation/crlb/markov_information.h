@@ -1,0 +1,48 @@
+// Fisher information of a Markov chain of states x_0 .. x_{n-1} (a block-tridiagonal information
+// matrix) and its two Cramér–Rao bounds:
+// - filtering (causal): the posterior CRLB recursion of Tichavsky, Muravchik and Nehorai,
+// "Posterior
+//   Cramér–Rao bounds for discrete-time nonlinear filtering", IEEE TSP 46(5), 1998, eq. (21):
+//     J_{k+1} = D22_k + M_{k+1} - D21_k (J_k + D11_k)^-1 D12_k,   J_0 = M_0,
+//   where for a transition x_{k+1} = f(x_k) + w_k, w_k ~ N(0, Q_k), linearised as Phi_k:
+//     D11 = Phi^T Q^-1 Phi, D12 = D21^T = -Phi^T Q^-1, D22 = Q^-1 (their eq. 34-36),
+//   and M_k the information of the measurements (and priors) at step k;
+// - smoothing (the whole batch): the diagonal blocks of the inverse of the full information matrix
+//   H (diagonal blocks M_k + D22_{k-1} + D11_k, off-diagonal D12_k), by the forward Schur
+//   complements S_k = J_k + D11_k and the backward selected-inversion pass
+//     Sigma_{n-1} = S_{n-1}^-1,  Sigma_k = S_k^-1 + G_k Sigma_{k+1} G_k^T,  G_k = -S_k^-1 D12_k
+//   (the information-form Rauch–Tung–Striebel recursion), linear in n; no dense inverse.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+namespace mavloc {
+
+struct MarkovInformation {
+  // M_k: information of everything attached to state k alone (measurements, priors); size n.
+  std::vector<Eigen::MatrixXd> node;
+  // Transition information of the edge k -> k+1; size n - 1.
+  std::vector<Eigen::MatrixXd> d11, d12, d22;
+
+  int size() const { return static_cast<int>(node.size()); }
+  // Adds the edge k -> k+1 of a linear(ised) transition x_{k+1} = Phi x_k + w, w ~ N(0, Q).
+  void AddTransition(const Eigen::MatrixXd& Phi, const Eigen::MatrixXd& Q);
+};
+
+struct MarkovBounds {
+  // Smoothing covariance bound per state (the diagonal blocks of H^-1); empty when H is singular.
+  std::vector<Eigen::MatrixXd> smoothing;
+  // Filtering covariance bound J_k^-1 per state; nullopt where J_k is singular (nothing seen yet).
+  std::vector<std::optional<Eigen::MatrixXd>> filtering;
+  bool smoothing_ok = false;
+};
+
+// Both bounds (filtering by the forward recursion, smoothing by forward + backward passes).
+MarkovBounds ComputeMarkovBounds(const MarkovInformation& information);
+
+// The full information matrix H as a dense matrix (tests and small problems only).
+Eigen::MatrixXd DenseInformation(const MarkovInformation& information);
+
+}  // namespace mavloc

@@ -1,0 +1,281 @@
+#include "evaluation/crlb/smoother_bound.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/rotation.h"
+#include "core/tag_geometry.h"
+#include "evaluation/crlb/markov_information.h"
+#include "solver/estimators/smoother_estimator.h"
+#include "solver/smoother/smoother_initialization.h"
+
+namespace mavloc {
+
+namespace {
+
+constexpr TimeNs kAttachToleranceNs = 1'000'000;  // the smoother's: 1 ms
+
+// The true state at t_ns: ground truth interpolated linearly (slerp for the attitude).
+GroundTruthState TruthAt(const std::vector<GroundTruthState>& gt, TimeNs t_ns) {
+  auto it = std::lower_bound(gt.begin(), gt.end(), t_ns,
+                             [](const GroundTruthState& s, TimeNs t) { return s.t_ns < t; });
+  if (it == gt.begin()) return gt.front();
+  if (it == gt.end()) return gt.back();
+  const GroundTruthState& b = *it;
+  const GroundTruthState& a = *std::prev(it);
+  if (b.t_ns == a.t_ns) return b;
+  const double s = static_cast<double>(t_ns - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns);
+  GroundTruthState out;
+  out.t_ns = t_ns;
+  out.T_W_B = Pose(a.T_W_B.q.slerp(s, b.T_W_B.q).normalized(), (1 - s) * a.T_W_B.p + s * b.T_W_B.p);
+  out.v_W = (1 - s) * a.v_W + s * b.v_W;
+  out.b_g = (1 - s) * a.b_g + s * b.b_g;
+  out.b_a = (1 - s) * a.b_a + s * b.b_a;
+  return out;
+}
+
+ImuNoise WithFloor(const ImuNoise& noise, const ImuNoise& floor) {
+  return {std::max(noise.gyroscope_noise_density, floor.gyroscope_noise_density),
+          std::max(noise.gyroscope_random_walk, floor.gyroscope_random_walk),
+          std::max(noise.accelerometer_noise_density, floor.accelerometer_noise_density),
+          std::max(noise.accelerometer_random_walk, floor.accelerometer_random_walk)};
+}
+
+// Linearised transition of the error state from t0 to t1 (see the header): Phi and Q.
+void ImuTransition(const Dataset& dataset, const ImuNoise& noise, TimeNs t0, TimeNs t1,
+                   Matrix15d* Phi, Matrix15d* Q) {
+  const auto& samples = dataset.imu.samples;
+  Phi->setIdentity();
+  Q->setZero();
+  auto it = std::upper_bound(samples.begin(), samples.end(), t0,
+                             [](TimeNs t, const ImuSample& s) { return t < s.t_ns; });
+  // The sample held over [a, b): the last one at or before a.
+  size_t held = it == samples.begin() ? 0 : static_cast<size_t>(it - samples.begin()) - 1;
+  TimeNs a = t0;
+  const double var_g = noise.gyroscope_noise_density * noise.gyroscope_noise_density;
+  const double var_a = noise.accelerometer_noise_density * noise.accelerometer_noise_density;
+  const double var_wg = noise.gyroscope_random_walk * noise.gyroscope_random_walk;
+  const double var_wa = noise.accelerometer_random_walk * noise.accelerometer_random_walk;
+  while (a < t1) {
+    TimeNs b = t1;
+    if (held + 1 < samples.size() && samples[held + 1].t_ns < t1 && samples[held + 1].t_ns > a)
+      b = samples[held + 1].t_ns;
+    const double h = NsToSeconds(b - a);
+    const GroundTruthState truth = TruthAt(dataset.ground_truth, a);
+    const Eigen::Matrix3d R = truth.T_W_B.R();
+    const Eigen::Vector3d w = samples[held].gyro_rad_s - truth.b_g;
+    const Eigen::Vector3d f = samples[held].accel_m_s2 - truth.b_a;
+    const Eigen::Matrix3d Jr = RightJacobianSO3(w * h);
+    const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+
+    Matrix15d F = Matrix15d::Identity();
+    F.block<3, 3>(kCrlbP, kCrlbV) = h * I;
+    F.block<3, 3>(kCrlbP, kCrlbTheta) = -0.5 * h * h * R * Skew(f);
+    F.block<3, 3>(kCrlbP, kCrlbBa) = -0.5 * h * h * R;
+    F.block<3, 3>(kCrlbTheta, kCrlbTheta) = ExpSO3(-w * h);
+    F.block<3, 3>(kCrlbTheta, kCrlbBg) = -h * Jr;
+    F.block<3, 3>(kCrlbV, kCrlbTheta) = -h * R * Skew(f);
+    F.block<3, 3>(kCrlbV, kCrlbBa) = -h * R;
+
+    // Noise of this interval: the sample noise (variance density / dt per sample, held over the
+    // interval: velocity noise variance var_a h, position h^2/4 of it, correlation h/2) and the
+    // bias walks.
+    Matrix15d Qs = Matrix15d::Zero();
+    Qs.block<3, 3>(kCrlbTheta, kCrlbTheta) = var_g * h * Jr * Jr.transpose();
+    Qs.block<3, 3>(kCrlbV, kCrlbV) = var_a * h * I;
+    Qs.block<3, 3>(kCrlbP, kCrlbP) = 0.25 * h * h * var_a * h * I;
+    Qs.block<3, 3>(kCrlbP, kCrlbV) = 0.5 * h * var_a * h * I;
+    Qs.block<3, 3>(kCrlbV, kCrlbP) = 0.5 * h * var_a * h * I;
+    Qs.block<3, 3>(kCrlbBg, kCrlbBg) = var_wg * h * I;
+    Qs.block<3, 3>(kCrlbBa, kCrlbBa) = var_wa * h * I;
+
+    *Phi = F * *Phi;
+    *Q = F * *Q * F.transpose() + Qs;
+    a = b;
+    if (held + 1 < samples.size() && samples[held + 1].t_ns <= a) ++held;
+  }
+}
+
+// Whitened Jacobian (2 x 6, columns dp, dtheta) of the pixel of map point p_W seen from
+// T_W_B * T_B_C, by central differences of CameraModel::Project. False when the point is not in
+// front of the camera.
+bool PixelJacobian(const CameraSensor& camera, const Pose& T_W_B, const Eigen::Vector3d& p_W,
+                   double sigma_px, Eigen::Matrix<double, 2, 6>* J) {
+  const auto project = [&](const Eigen::Matrix<double, 6, 1>& d) -> std::optional<Eigen::Vector2d> {
+    const Pose T(T_W_B.q * ExpQuaternion(d.tail<3>()), T_W_B.p + d.head<3>());
+    const Eigen::Vector3d p_C = (T * camera.T_B_C).Inverse() * p_W;
+    if (p_C.z() <= 0.01) return std::nullopt;
+    return camera.model.Project(p_C, 0.01);
+  };
+  if (!project(Eigen::Matrix<double, 6, 1>::Zero())) return false;
+  const double step = 1e-6;
+  for (int c = 0; c < 6; ++c) {
+    const Eigen::Matrix<double, 6, 1> d = step * Eigen::Matrix<double, 6, 1>::Unit(c);
+    const auto plus = project(d);
+    const auto minus = project(-d);
+    if (!plus || !minus) return false;
+    J->col(c) = (*plus - *minus) / (2.0 * step * sigma_px);
+  }
+  return true;
+}
+
+// Index of the keyframe within the smoother's attach tolerance of t_ns, or -1.
+int KeyframeAt(const std::vector<TimeNs>& times, TimeNs t_ns) {
+  auto it = std::lower_bound(times.begin(), times.end(), t_ns - kAttachToleranceNs);
+  if (it == times.end() || *it > t_ns + kAttachToleranceNs) return -1;
+  int best = static_cast<int>(it - times.begin());
+  for (auto c = it; c != times.end() && *c <= t_ns + kAttachToleranceNs; ++c)
+    if (std::abs(*c - t_ns) < std::abs(times[best] - t_ns))
+      best = static_cast<int>(c - times.begin());
+  return best;
+}
+
+}  // namespace
+
+SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset, const EstimatorOptions& smoother_options) {
+  const auto start = std::chrono::steady_clock::now();
+  SmootherCrlb out;
+  if (dataset.ground_truth.size() < 2 || dataset.imu.samples.size() < 2) {
+    out.reason = "no ground truth or no IMU stream";
+    return out;
+  }
+  if (dataset.cameras.empty()) {
+    out.reason = "no camera";
+    return out;
+  }
+  if (dataset.map.frame == MapFrame::kBoard) {
+    out.reason = "board map: the board tilt parameter is not in the bound's model";
+    return out;
+  }
+  const SmootherEstimator smoother(smoother_options);
+  const SmootherProblemOptions options = smoother.ProblemOptionsFor(dataset);
+  if (!dataset.laser.empty() && dataset.features.empty() && dataset.tags.empty()) {
+    out.reason =
+        "laser spot on an unknown plane: the plane parameters and the gauge priors of the "
+        "laser-only problem are not in the bound's model";
+    return out;
+  }
+  const bool features_used = !dataset.features.empty();
+  if (features_used && options.landmarks != LandmarkMode::kKnown) {
+    out.reason = options.features_as_bearings
+                     ? "bearings: no finite Cramér–Rao bound (the simulated angular noise, a "
+                       "Gaussian angle about a uniformly random axis, has a density with a 1/r "
+                       "cusp at zero error and infinite Fisher information), and unknown "
+                       "landmarks are not in the bound's model"
+                     : "unknown landmarks (feature positions are parameters): not in the bound's "
+                       "model";
+    return out;
+  }
+  if (features_used && options.features_as_bearings) {
+    out.reason =
+        "bearings: no finite Cramér–Rao bound (the simulated angular noise has infinite Fisher "
+        "information)";
+    return out;
+  }
+
+  const std::vector<TimeNs> times =
+      SmootherKeyframeTimes(dataset, smoother_options.GetInt("keyframe_stride", 1));
+  const int n = static_cast<int>(times.size());
+  if (n < 2) {
+    out.reason = "fewer than 2 keyframes";
+    return out;
+  }
+  MarkovInformation info;
+  info.node.assign(n, Eigen::MatrixXd::Zero(15, 15));
+  std::vector<Pose> truth(n);
+  for (int k = 0; k < n; ++k) truth[k] = TruthAt(dataset.ground_truth, times[k]).T_W_B;
+
+  // Priors: the first biases.
+  for (int i = 0; i < 3; ++i) {
+    info.node[0](kCrlbBg + i, kCrlbBg + i) +=
+        1.0 / (options.gyro_bias_prior_rad_s * options.gyro_bias_prior_rad_s);
+    info.node[0](kCrlbBa + i, kCrlbBa + i) +=
+        1.0 / (options.accel_bias_prior_m_s2 * options.accel_bias_prior_m_s2);
+  }
+
+  // Vision: map points in pixels.
+  const auto add_point = [&](int k, const CameraSensor& camera, const Eigen::Vector3d& p_W) {
+    Eigen::Matrix<double, 2, 6> J;
+    if (!PixelJacobian(camera, truth[k], p_W, options.pixel_sigma_px, &J)) return;
+    info.node[k].topLeftCorner<6, 6>() += J.transpose() * J;
+    ++out.visual_residuals;
+  };
+  if (features_used) {
+    for (const FeatureObservation& obs : dataset.features) {
+      const int k = KeyframeAt(times, obs.t_ns);
+      auto it = dataset.map.landmarks_W.find(obs.landmark_id);
+      if (k < 0 || it == dataset.map.landmarks_W.end()) continue;
+      add_point(k, dataset.cameras.front(), it->second);
+    }
+  }
+  for (const int c : options.cameras) {
+    if (c < 0 || c >= static_cast<int>(dataset.cameras.size())) continue;
+    const auto& stream = c == 0 ? dataset.tags : dataset.tags1;
+    if (c > 1) continue;
+    for (const TagObservation& obs : stream) {
+      const int k = KeyframeAt(times, obs.t_ns);
+      auto it = dataset.map.tags.find(obs.tag_id);
+      if (k < 0 || it == dataset.map.tags.end()) continue;
+      for (const Eigen::Vector3d& corner : TagCornersInWorld(it->second))
+        add_point(k, dataset.cameras[c], corner);
+    }
+  }
+  if (out.visual_residuals == 0) {
+    out.reason = "no map point observed at a keyframe";
+    return out;
+  }
+
+  // IMU transitions.
+  const ImuNoise noise = WithFloor(dataset.imu.noise, options.noise_floor);
+  for (int k = 0; k + 1 < n; ++k) {
+    Matrix15d Phi, Q;
+    ImuTransition(dataset, noise, times[k], times[k + 1], &Phi, &Q);
+    info.AddTransition(Phi, Q);
+  }
+
+  const MarkovBounds bounds = ComputeMarkovBounds(info);
+  if (!bounds.smoothing_ok) {
+    out.reason = "the information matrix is singular (unobservable states)";
+    return out;
+  }
+  for (int k = 0; k < n; ++k) {
+    CrlbKeyframe kf;
+    kf.t_ns = times[k];
+    kf.T_W_B = truth[k];
+    kf.smoothing = bounds.smoothing[k];
+    if (bounds.filtering[k]) kf.filtering = Matrix15d(*bounds.filtering[k]);
+    out.keyframes.push_back(kf);
+  }
+  out.ok = true;
+  out.compute_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+CrlbSigmas SigmasOf(const Matrix15d& C, const Eigen::Quaterniond& q_W_B) {
+  CrlbSigmas s;
+  const auto sd = [&](int i) { return std::sqrt(std::max(C(i, i), 0.0)); };
+  s.position_m = std::sqrt(std::max(C.block<3, 3>(kCrlbP, kCrlbP).trace(), 0.0));
+  s.attitude_rad = std::sqrt(std::max(C.block<3, 3>(kCrlbTheta, kCrlbTheta).trace(), 0.0));
+  for (int i = 0; i < 3; ++i) {
+    s.xyz_m[i] = sd(kCrlbP + i);
+    s.v_m_s[i] = sd(kCrlbV + i);
+    s.b_g_rad_s[i] = sd(kCrlbBg + i);
+    s.b_a_m_s2[i] = sd(kCrlbBa + i);
+  }
+  // d(roll, pitch, yaw) / d(dtheta) by central differences (R Exp(dtheta)).
+  Eigen::Matrix3d E;
+  const double h = 1e-6;
+  for (int c = 0; c < 3; ++c) {
+    const EulerRpy a = EulerFromQuaternion(q_W_B * ExpQuaternion(h * Eigen::Vector3d::Unit(c)));
+    const EulerRpy b = EulerFromQuaternion(q_W_B * ExpQuaternion(-h * Eigen::Vector3d::Unit(c)));
+    E.col(c) = Eigen::Vector3d(WrapAngle(a.roll - b.roll), WrapAngle(a.pitch - b.pitch),
+                               WrapAngle(a.yaw - b.yaw)) /
+               (2.0 * h);
+  }
+  const Eigen::Matrix3d rpy = E * C.block<3, 3>(kCrlbTheta, kCrlbTheta) * E.transpose();
+  for (int i = 0; i < 3; ++i) s.rpy_rad[i] = std::sqrt(std::max(rpy(i, i), 0.0));
+  return s;
+}
+
+}  // namespace mavloc

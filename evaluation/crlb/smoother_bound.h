@@ -1,0 +1,74 @@
+// Cramér–Rao bounds of the batch smoother's problem (issue 15) on a simulated dataset: the Fisher
+// information of all measurements about the keyframe states x_k = (p_W, theta, v_W, b_g, b_a) at
+// the smoother's keyframe times, evaluated at the TRUE states (the ground truth), with the
+// dataset's stated noise models and the priors and gauge the smoother uses.
+//
+// The Jacobians do not come from the smoother's residual code (solver/smoother/residuals):
+// - IMU: the linearised error-state propagation of the strapdown model of README "Conventions"
+//   (w_m = w + b_g + n_g, a_m = R^T (a - g) + b_a + n_a, biases as random walks; e.g. Sola,
+//   "Quaternion kinematics for the error-state Kalman filter", 2017, sec. 5.3 and 7.2, with the
+//   right perturbation R = R_true Exp(dtheta)) over every IMU sample interval between two
+//   keyframes, with the true attitude and the bias-corrected samples held over each interval
+//   (zero-order hold, as the samples are simulated): x_{k+1} = Phi x_k + w, w ~ N(0, Q), whose
+//   information enters as Tichavsky et al.'s D11, D12, D22 (markov_information.h). The bias walk
+//   inside the interval is part of Q (the smoother models it as a separate factor).
+// - Vision: central differences of CameraModel::Project (the simulator's projection) of every map
+//   point observed at a keyframe (tag corners of tags0/tags1, features0 landmarks in pixels),
+//   whitened by the pixel noise sigma.
+// - Priors: the smoother's zero-mean prior on the first biases (the turn-on bias sigma the
+//   dataset states, SmootherEstimator::ProblemOptionsFor); no pose prior: known map points fix
+//   the gauge, as in the smoother.
+// Unsupported (reported, no bound): board maps (the tilt parameter), unknown landmarks, bearings
+// (three-point scenario) and the laser spot (plane parameters, gauge priors). Bearings have no
+// finite bound under the simulator's angular noise
+// (datasets/simulation/camera_simulator.h PerturbBearing: a Gaussian angle theta ~ N(0, s^2)
+// about a uniformly random perpendicular axis): the 2-D tangent error e = theta u has the density
+// 2 N(r; 0, s) / (2 pi r) with a 1/r cusp at r = 0, so E[|d log p / de|^2] >= E[1/r^2] diverges
+// and the Fisher information is infinite (tests/evaluation/crlb_angular_noise_test.cc measures
+// the cusp: P(r < eps) grows like eps, not eps^2).
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/dataset.h"
+#include "solver/estimator.h"
+
+namespace mavloc {
+
+using Matrix15d = Eigen::Matrix<double, 15, 15>;
+
+// Error-state order of the bound: [dp_W (m); dtheta (rad, R Exp(dtheta)); dv_W (m/s); db_g; db_a].
+enum CrlbStateIndex { kCrlbP = 0, kCrlbTheta = 3, kCrlbV = 6, kCrlbBg = 9, kCrlbBa = 12 };
+
+struct CrlbKeyframe {
+  TimeNs t_ns = 0;
+  Pose T_W_B;                          // true pose
+  Matrix15d smoothing;                 // covariance bound of the batch problem
+  std::optional<Matrix15d> filtering;  // causal bound (unset before the state is observable)
+};
+
+struct SmootherCrlb {
+  bool ok = false;
+  std::string reason;  // why there is no bound
+  std::vector<CrlbKeyframe> keyframes;
+  int visual_residuals = 0;  // 2-D measurements in the information
+  double compute_s = 0.0;
+};
+
+// The bound for the smoother with the given estimator options (as `--option` gives them; the
+// noise sigmas, bias priors and keyframe_stride are read as the smoother reads them).
+SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset,
+                                 const EstimatorOptions& smoother_options = EstimatorOptions());
+
+// Standard deviations of a 15 x 15 bound at attitude R_W_B.
+struct CrlbSigmas {
+  double position_m = 0.0;    // sqrt(trace): bound on the RMS position error (ATE translation)
+  double attitude_rad = 0.0;  // sqrt(trace): bound on the RMS rotation angle (ATE rotation)
+  Eigen::Vector3d xyz_m, rpy_rad, v_m_s, b_g_rad_s, b_a_m_s2;
+};
+CrlbSigmas SigmasOf(const Matrix15d& covariance, const Eigen::Quaterniond& q_W_B);
+
+}  // namespace mavloc

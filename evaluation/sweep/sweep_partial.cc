@@ -1,0 +1,221 @@
+#include "evaluation/sweep/sweep_partial.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <regex>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+
+namespace fs = std::filesystem;
+
+namespace mavloc {
+
+namespace {
+
+constexpr const char* kFormat = "mavloc-sweep-partial 1";
+const std::regex kPartialName(R"(partial-([0-9]+)-of-([0-9]+)\.json)");
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "", "cannot read the partial file");
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+struct Partial {
+  std::string path;
+  nlohmann::json json;
+  ShardSpec spec;
+};
+
+// Parses and checks one partial on its own (format, complete marker, fingerprint, unit set).
+Partial ReadPartial(const std::string& path) {
+  Partial p;
+  p.path = path;
+  try {
+    p.json = nlohmann::json::parse(ReadAll(path));
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(path, 0, "",
+                     "incomplete partial: not valid JSON (cut short by an interrupted copy or "
+                     "shard?); rerun this shard");
+  }
+  if (!p.json.is_object() || p.json.value("format", "") != kFormat)
+    throw InputError(path, 0, "format",
+                     std::string("not a mavloc sweep partial (expected \"") + kFormat + "\")");
+  if (!p.json.contains("complete") || p.json["complete"] != true)
+    throw InputError(path, 0, "complete",
+                     "incomplete partial: no \"complete\": true marker; rerun this shard");
+  try {
+    p.spec.shard = p.json.at("shard").get<int>();
+    p.spec.shards = p.json.at("shards").get<int>();
+    const SweepGrid grid = SweepGridFromJson(p.json.at("grid"), path);
+    const std::string fingerprint = p.json.at("fingerprint").get<std::string>();
+    const std::string expected = Fnv1a64Hex(CanonicalGridText(grid) + "\nmavloc executable " +
+                                            p.json.at("executable").get<std::string>());
+    if (fingerprint != expected)
+      throw InputError(path, 0, "fingerprint",
+                       "fingerprint " + fingerprint + " does not match its own grid (" + expected +
+                           "): the file was edited or damaged");
+    if (p.spec.shards < 1 || p.spec.shard < 1 || p.spec.shard > p.spec.shards)
+      throw InputError(path, 0, "shard",
+                       fmt::format("bad shard {}/{}", p.spec.shard, p.spec.shards));
+    const auto expected_units = ShardUnitIndices(SweepUnitCount(grid), p.spec);
+    const auto& units = p.json.at("units");
+    bool same = units.is_array() && units.size() == expected_units.size();
+    for (size_t i = 0; same && i < units.size(); ++i)
+      same = units[i].at("index").get<size_t>() == expected_units[i];
+    if (!same)
+      throw InputError(
+          path, 0, "units",
+          fmt::format("incomplete partial: shard {}/{} must hold {} units, it holds {}",
+                      p.spec.shard, p.spec.shards, expected_units.size(),
+                      units.is_array() ? units.size() : 0));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path, 0, "", std::string("malformed partial: ") + e.what());
+  }
+  return p;
+}
+
+}  // namespace
+
+ShardSpec ParseShardSpec(const std::string& text) {
+  const std::regex pattern(R"(([0-9]{1,9})/([0-9]{1,9}))");
+  std::smatch match;
+  if (!std::regex_match(text, match, pattern))
+    throw InputError("--shard '" + text + "': expected I/N (e.g. 3/10)");
+  ShardSpec spec{std::stoi(match[1].str()), std::stoi(match[2].str())};
+  if (spec.shards < 1 || spec.shard < 1 || spec.shard > spec.shards)
+    throw InputError("--shard '" + text + "': expected 1 <= I <= N");
+  return spec;
+}
+
+std::vector<size_t> ShardUnitIndices(size_t unit_count, const ShardSpec& spec) {
+  std::vector<size_t> indices;
+  for (size_t k = static_cast<size_t>(spec.shard - 1); k < unit_count;
+       k += static_cast<size_t>(spec.shards))
+    indices.push_back(k);
+  return indices;
+}
+
+std::string PartialFileName(const ShardSpec& spec) {
+  return fmt::format("partial-{}-of-{}.json", spec.shard, spec.shards);
+}
+
+std::string WritePartial(const std::string& folder, const SweepGrid& grid, const ShardSpec& spec,
+                         const std::vector<nlohmann::json>& units) {
+  std::error_code error;
+  fs::create_directories(folder, error);
+  if (error)
+    throw InputError(folder, 0, "", "cannot create the partial folder: " + error.message());
+  nlohmann::json j;
+  j["format"] = kFormat;
+  j["grid"] = SweepGridToJson(grid);
+  j["grid_hash"] = Fnv1a64Hex(CanonicalGridText(grid));
+  j["executable"] = ExecutableHash();
+  j["fingerprint"] = SweepFingerprint(grid);
+  j["shard"] = spec.shard;
+  j["shards"] = spec.shards;
+  j["units"] = units;
+  j["complete"] = true;
+  const std::string path = (fs::path(folder) / PartialFileName(spec)).string();
+  WriteFileAtomically(path, j.dump() + "\n");
+  return path;
+}
+
+MergedSweep MergePartials(const std::vector<std::string>& inputs) {
+  std::vector<std::string> files;
+  std::vector<std::string> leftovers;  // temporary files of interrupted shards
+  for (const auto& input : inputs) {
+    if (fs::is_directory(input)) {
+      std::vector<std::string> found;
+      for (const auto& entry : fs::directory_iterator(input)) {
+        const std::string name = entry.path().filename().string();
+        if (std::regex_match(name, kPartialName))
+          found.push_back(entry.path().string());
+        else if (name.rfind("partial-", 0) == 0 && name.find(".json.tmp-") != std::string::npos)
+          leftovers.push_back(entry.path().string());
+      }
+      std::sort(found.begin(), found.end());
+      if (found.empty())
+        throw InputError(input, 0, "", "no partial files (partial-I-of-N.json) in this folder");
+      files.insert(files.end(), found.begin(), found.end());
+    } else if (fs::exists(input)) {
+      files.push_back(input);
+    } else {
+      throw InputError(input, 0, "", "no such partial file or folder");
+    }
+  }
+  if (files.empty()) throw InputError("sweep-merge: no partial files given");
+
+  std::map<int, Partial> by_shard;
+  std::string fingerprint, first_path;
+  int shards = 0;
+  for (const auto& path : files) {
+    Partial p = ReadPartial(path);
+    const std::string fp = p.json["fingerprint"].get<std::string>();
+    if (first_path.empty()) {
+      fingerprint = fp;
+      shards = p.spec.shards;
+      first_path = path;
+    } else if (fp != fingerprint) {
+      throw InputError(path, 0, "fingerprint",
+                       "mismatched fingerprint " + fp + " (" + first_path + " has " + fingerprint +
+                           "): a partial of a different grid or mavloc build");
+    } else if (p.spec.shards != shards) {
+      throw InputError(path, 0, "shards",
+                       fmt::format("shard {}/{} but {} is of {} shards", p.spec.shard,
+                                   p.spec.shards, first_path, shards));
+    }
+    const int shard = p.spec.shard;
+    if (by_shard.count(shard))
+      throw InputError(
+          path, 0, "shard",
+          fmt::format("duplicate shard {}/{} (also in {})", shard, shards, by_shard[shard].path));
+    by_shard.emplace(shard, std::move(p));
+  }
+  std::vector<int> missing;
+  for (int i = 1; i <= shards; ++i)
+    if (!by_shard.count(i)) missing.push_back(i);
+  if (!missing.empty()) {
+    std::string message = fmt::format("sweep-merge: missing shard(s) {} of {} (have {})",
+                                      fmt::join(missing, ", "), shards, by_shard.size());
+    if (!leftovers.empty())
+      message += "; interrupted shard files: " + fmt::format("{}", fmt::join(leftovers, ", "));
+    throw InputError(message);
+  }
+
+  MergedSweep merged;
+  merged.grid = SweepGridFromJson(by_shard.begin()->second.json["grid"], first_path);
+  merged.fingerprint = fingerprint;
+  const size_t count = SweepUnitCount(merged.grid);
+  merged.units.resize(count);
+  for (auto& [shard, partial] : by_shard)
+    for (auto& unit : partial.json["units"]) {
+      const size_t index = unit["index"].get<size_t>();
+      merged.units[index] = std::move(unit);
+    }
+  return merged;
+}
+
+std::vector<bool> CompleteShards(const std::string& folder, int shards,
+                                 const std::string& fingerprint) {
+  std::vector<bool> complete(static_cast<size_t>(shards) + 1, false);
+  for (int i = 1; i <= shards; ++i) {
+    const std::string path = (fs::path(folder) / PartialFileName({i, shards})).string();
+    if (!fs::exists(path)) continue;
+    try {
+      const Partial partial = ReadPartial(path);
+      complete[static_cast<size_t>(i)] = partial.json["fingerprint"] == fingerprint &&
+                                         partial.spec.shard == i && partial.spec.shards == shards;
+    } catch (const InputError&) {
+    }
+  }
+  return complete;
+}
+
+}  // namespace mavloc

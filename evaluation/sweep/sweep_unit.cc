@@ -1,0 +1,104 @@
+#include "evaluation/sweep/sweep_unit.h"
+
+#include <cmath>
+
+#include "core/errors.h"
+#include "datasets/scenarios/scenario.h"
+#include "evaluation/comparison.h"
+#include "solver/estimator.h"
+
+namespace mavloc {
+
+namespace {
+
+std::pair<std::string, std::string> SplitKeyValue(const std::string& item) {
+  const auto eq = item.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("--option '" + item + "': expected [estimator:]key=value");
+  return {item.substr(0, eq), item.substr(eq + 1)};
+}
+
+// `compare`'s rule (cli/option_checks.h): "name:key=value" for one estimator, "key=value" for
+// every estimator that has the option; the specific one wins.
+EstimatorOptions OptionsFor(const std::string& estimator, const std::vector<std::string>& items) {
+  const EstimatorEntry* entry = FindEstimator(estimator);
+  EstimatorOptions specific;
+  std::vector<std::pair<std::string, std::string>> global;
+  for (const auto& item : items) {
+    const auto colon = item.find(':');
+    const auto eq = item.find('=');
+    if (colon != std::string::npos && (eq == std::string::npos || colon < eq)) {
+      const auto [key, value] = SplitKeyValue(item.substr(colon + 1));
+      if (item.substr(0, colon) == estimator) specific.Set(key, value);
+    } else {
+      global.push_back(SplitKeyValue(item));
+    }
+  }
+  for (const auto& [key, value] : global)
+    if (entry && entry->HasOption(key) && !specific.Has(key)) specific.Set(key, value);
+  return specific;
+}
+
+void AddMetric(nlohmann::json& row, const std::string& name, double value,
+               const std::string& unit) {
+  if (!std::isfinite(value)) return;
+  row["metrics"][name] = value;
+  row["units"][name] = unit;
+}
+
+}  // namespace
+
+nlohmann::json RunSweepUnit(const SweepGrid& grid, size_t index) {
+  const SweepUnit unit = SweepUnitAt(grid, index);
+  ScenarioOptions scenario_options;
+  scenario_options.seed = unit.seed;
+  scenario_options.duration_s = grid.duration_s;
+  scenario_options.settings = unit.settings;
+  const ScenarioEntry* scenario = FindScenario(unit.scenario);
+  if (!scenario) throw InputError("unknown scenario '" + unit.scenario + "'");
+  const Dataset dataset = scenario->generate(scenario_options);
+
+  EvaluationOptions evaluation_options;
+  evaluation_options.align = *ParseAlignmentMode(grid.align);
+  evaluation_options.max_dt_s = grid.max_dt_s;
+
+  nlohmann::json result;
+  result["index"] = index;
+  result["scenario"] = unit.scenario;
+  result["seed"] = unit.seed;
+  result["settings"] = unit.settings;
+  result["estimators"] = nlohmann::json::array();
+  for (const auto& name : grid.estimators) {
+    const EstimatorEvaluation evaluation =
+        RunAndEvaluate(name, OptionsFor(name, grid.options), dataset, evaluation_options);
+    nlohmann::json row;
+    row["name"] = name;
+    row["ran"] = evaluation.ran;
+    if (!evaluation.ran) {
+      row["skipped"] = evaluation.skipped_reason;
+      result["estimators"].push_back(row);
+      continue;
+    }
+    row["metrics"] = nlohmann::json::object();
+    row["units"] = nlohmann::json::object();
+    if (evaluation.ate) {
+      AddMetric(row, "ate_rmse", evaluation.ate->translation_m.rmse, "m");
+      AddMetric(row, "ate_rotation_rmse", evaluation.ate->rotation_rad.rmse * 180.0 / M_PI, "deg");
+    }
+    // The per-quantity numbers exactly as `compare` reports them (angles in degrees).
+    const nlohmann::json reported = EvaluationToJson(evaluation);
+    if (reported.contains("quantities"))
+      for (const auto& [quantity, stats] : reported["quantities"].items()) {
+        const std::string unit_name = stats.value("unit", "");
+        if (stats["mean_abs"].is_number())
+          AddMetric(row, quantity + ".mean_abs", stats["mean_abs"].get<double>(), unit_name);
+        if (stats["rmse"].is_number())
+          AddMetric(row, quantity + ".rmse", stats["rmse"].get<double>(), unit_name);
+      }
+    AddMetric(row, "failures", evaluation.estimate.FailureCount(), "frames");
+    result["estimators"].push_back(row);
+  }
+  return result;
+}
+
+}  // namespace mavloc

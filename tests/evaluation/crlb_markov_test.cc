@@ -1,0 +1,141 @@
+// The block-tridiagonal bounds (evaluation/crlb/markov_information.h) on a linear-Gaussian chain,
+// where the Cramér–Rao bounds are exact: the filtering bound equals the Kalman filter's covariance
+// P_{k|k} and the smoothing bound the Rauch–Tung–Striebel smoother's P_{k|N}, both computed here
+// in covariance form (an independent path), and the smoothing bound equals the diagonal blocks of
+// the dense inverse of the full information matrix.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include "core/random.h"
+#include "evaluation/crlb/markov_information.h"
+
+namespace mavloc {
+namespace {
+
+Eigen::MatrixXd RandomMatrix(int rows, int cols, Rng& rng) {
+  Eigen::MatrixXd M(rows, cols);
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < cols; ++j) M(i, j) = rng.Gaussian(0.0, 1.0);
+  return M;
+}
+
+Eigen::MatrixXd RandomSpd(int n, double scale, Rng& rng) {
+  const Eigen::MatrixXd A = RandomMatrix(n, n, rng);
+  return scale * (A * A.transpose() + 0.5 * Eigen::MatrixXd::Identity(n, n));
+}
+
+double RelativeDifference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return (a - b).norm() / b.norm();
+}
+
+struct Chain {
+  std::vector<Eigen::MatrixXd> F, Q, H, R;
+  Eigen::MatrixXd P0;
+  int n = 0;
+};
+
+// x_{k+1} = F_k x_k + w_k, z_k = H_k x_k + v_k, x_0 ~ N(m, P0); some steps without measurement.
+Chain MakeChain(int n, int dim, uint64_t seed) {
+  Rng rng(seed);
+  Chain c;
+  c.n = n;
+  c.P0 = RandomSpd(dim, 4.0, rng);
+  for (int k = 0; k < n; ++k) {
+    const int m = k % 4 == 3 ? 0 : 2;  // every fourth step without measurement
+    c.H.push_back(RandomMatrix(m, dim, rng));
+    c.R.push_back(RandomSpd(m, 0.3, rng));
+    if (k + 1 < n) {
+      c.F.push_back(Eigen::MatrixXd::Identity(dim, dim) + 0.3 * RandomMatrix(dim, dim, rng));
+      c.Q.push_back(RandomSpd(dim, 0.05, rng));
+    }
+  }
+  return c;
+}
+
+MarkovInformation InformationOf(const Chain& c) {
+  MarkovInformation info;
+  for (int k = 0; k < c.n; ++k) {
+    Eigen::MatrixXd M = c.H[k].rows() > 0
+                            ? Eigen::MatrixXd(c.H[k].transpose() * c.R[k].inverse() * c.H[k])
+                            : Eigen::MatrixXd::Zero(c.P0.rows(), c.P0.cols());
+    if (k == 0) M += c.P0.inverse();
+    info.node.push_back(M);
+    if (k + 1 < c.n) info.AddTransition(c.F[k], c.Q[k]);
+  }
+  return info;
+}
+
+TEST(CrlbMarkov, FilteringAndSmoothingBoundsEqualKalmanAndRtsCovariances) {
+  const Chain c = MakeChain(40, 4, 11);
+  // Kalman filter and RTS smoother (covariance form).
+  std::vector<Eigen::MatrixXd> P_filt(c.n), P_pred(c.n), P_smooth(c.n);
+  for (int k = 0; k < c.n; ++k) {
+    P_pred[k] =
+        k == 0 ? c.P0
+               : Eigen::MatrixXd(c.F[k - 1] * P_filt[k - 1] * c.F[k - 1].transpose() + c.Q[k - 1]);
+    if (c.H[k].rows() > 0) {
+      const Eigen::MatrixXd S = c.H[k] * P_pred[k] * c.H[k].transpose() + c.R[k];
+      const Eigen::MatrixXd K = P_pred[k] * c.H[k].transpose() * S.inverse();
+      const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(c.P0.rows(), c.P0.cols());
+      // Joseph form.
+      P_filt[k] =
+          (I - K * c.H[k]) * P_pred[k] * (I - K * c.H[k]).transpose() + K * c.R[k] * K.transpose();
+    } else {
+      P_filt[k] = P_pred[k];
+    }
+  }
+  P_smooth[c.n - 1] = P_filt[c.n - 1];
+  for (int k = c.n - 2; k >= 0; --k) {
+    const Eigen::MatrixXd G = P_filt[k] * c.F[k].transpose() * P_pred[k + 1].inverse();
+    P_smooth[k] = P_filt[k] + G * (P_smooth[k + 1] - P_pred[k + 1]) * G.transpose();
+  }
+
+  const MarkovBounds bounds = ComputeMarkovBounds(InformationOf(c));
+  ASSERT_TRUE(bounds.smoothing_ok);
+  for (int k = 0; k < c.n; ++k) {
+    ASSERT_TRUE(bounds.filtering[k].has_value()) << k;
+    EXPECT_LT(RelativeDifference(*bounds.filtering[k], P_filt[k]), 1e-9) << "filtering " << k;
+    EXPECT_LT(RelativeDifference(bounds.smoothing[k], P_smooth[k]), 1e-9) << "smoothing " << k;
+  }
+  // Smoothing never above filtering (more data).
+  for (int k = 0; k < c.n; ++k)
+    EXPECT_LE(bounds.smoothing[k].trace(), bounds.filtering[k]->trace() * (1 + 1e-12));
+}
+
+TEST(CrlbMarkov, SmoothingBoundEqualsDenseInverse) {
+  const Chain c = MakeChain(25, 3, 5);
+  const MarkovInformation info = InformationOf(c);
+  const Eigen::MatrixXd H_inv = DenseInformation(info).inverse();
+  const MarkovBounds bounds = ComputeMarkovBounds(info);
+  ASSERT_TRUE(bounds.smoothing_ok);
+  for (int k = 0; k < c.n; ++k)
+    EXPECT_LT(RelativeDifference(bounds.smoothing[k], H_inv.block(3 * k, 3 * k, 3, 3)), 1e-9);
+}
+
+TEST(CrlbMarkov, FilteringBoundUnsetUntilObservable) {
+  // No prior and a 1-D measurement of a 2-D state: J_0 is singular, J_1 is not (the transition
+  // mixes the components).
+  MarkovInformation info;
+  Eigen::MatrixXd H(1, 2);
+  H << 1.0, 0.0;
+  for (int k = 0; k < 3; ++k) info.node.push_back(H.transpose() * H);
+  Eigen::MatrixXd F(2, 2);
+  F << 1.0, 1.0, 0.0, 1.0;
+  for (int k = 0; k < 2; ++k) info.AddTransition(F, 1e-2 * Eigen::MatrixXd::Identity(2, 2));
+  const MarkovBounds bounds = ComputeMarkovBounds(info);
+  EXPECT_FALSE(bounds.filtering[0].has_value());
+  EXPECT_TRUE(bounds.filtering[1].has_value());
+  EXPECT_TRUE(bounds.smoothing_ok);
+}
+
+TEST(CrlbMarkov, SingularInformationIsReported) {
+  MarkovInformation info;
+  for (int k = 0; k < 3; ++k) info.node.push_back(Eigen::MatrixXd::Zero(2, 2));
+  for (int k = 0; k < 2; ++k)
+    info.AddTransition(Eigen::MatrixXd::Identity(2, 2), Eigen::MatrixXd::Identity(2, 2));
+  EXPECT_FALSE(ComputeMarkovBounds(info).smoothing_ok);
+}
+
+}  // namespace
+}  // namespace mavloc
