@@ -67,7 +67,7 @@ TEST(AprilTagRenderDetect, NoiselessRenderedCornersMatchTheTruthToSubPixel) {
       if (!inside) continue;
       ++expected;
       const auto it = std::find_if(found.begin(), found.end(),
-                                   [&](const TagDetection& d) { return d.id == id; });
+                                   [tag_id = id](const TagDetection& d) { return d.id == tag_id; });
       ASSERT_NE(it, found.end()) << "tag " << id << " not detected";
     }
     for (const auto& det : found) {
