@@ -36,6 +36,14 @@ std::vector<std::string> Split(const std::string& line, Separator separator) {
   return fields;
 }
 
+// The whole text as a base-10 integer that fits a long long.
+bool ParseWholeInteger(const std::string& text, long long* value) {
+  char* end = nullptr;
+  errno = 0;
+  *value = std::strtoll(text.c_str(), &end, 10);
+  return !text.empty() && end != text.c_str() && *end == '\0' && errno != ERANGE;
+}
+
 }  // namespace
 
 std::string TextTable::FieldName(size_t k) const {
@@ -77,10 +85,8 @@ double TextTable::NumberIn(const TextRow& row, size_t k, double lo, double hi,
 int TextTable::Id(const TextRow& row, size_t k) const {
   RequireFields(row, k + 1);
   const std::string& text = row.fields[k];
-  char* end = nullptr;
-  errno = 0;
-  const long long value = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || end == text.c_str() || *end != '\0' || errno == ERANGE)
+  long long value = 0;
+  if (!ParseWholeInteger(text, &value))
     throw InputError(path, row.line, FieldName(k), "'" + text + "' is not an integer id");
   if (value < 0 || value > limits::kMaxId)
     throw InputError(path, row.line, FieldName(k),
@@ -91,10 +97,8 @@ int TextTable::Id(const TextRow& row, size_t k) const {
 TimeNs TextTable::TimestampNs(const TextRow& row, size_t k) const {
   RequireFields(row, k + 1);
   const std::string& text = row.fields[k];
-  char* end = nullptr;
-  errno = 0;
-  const long long value = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || end == text.c_str() || *end != '\0' || errno == ERANGE)
+  long long value = 0;
+  if (!ParseWholeInteger(text, &value))
     throw InputError(path, row.line, FieldName(k),
                      "'" + text + "' is not an integer timestamp in nanoseconds");
   if (value < 0) throw InputError(path, row.line, FieldName(k), "negative timestamp");
