@@ -2,7 +2,8 @@
 // truth, filtering recursion and smoothing selected inversion) on tag-arena-dynamic (IMU 100 Hz,
 // cam0 10 Hz) for 10, 30, 100 and 300 s of flight; the simulation is outside the timed loop.
 // Counters: keyframes, ms per keyframe (flat as the flight grows: everything is linear in the
-// number of keyframes), and the bound's position / attitude sigma at the middle keyframe.
+// number of keyframes), and the bound's position / attitude sigma at the middle keyframe. The same
+// on a board map below.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -58,6 +59,34 @@ BENCHMARK(BM_SmootherCrlbTagArenaDynamic)
     ->Arg(100)
     ->Arg(300)
     ->Unit(benchmark::kMillisecond);
+
+// A board map (aprilgrid-calibration, stereo, 20 Hz): the tilt to gravity as a nuisance parameter
+// (the coupled solves of the smoothing bound and the augmented filtering recursion) for 10 and
+// 30 s; the simulation (time_offset_ms=0, as `mavloc repro smoother` runs it) is outside the loop.
+void BM_SmootherCrlbAprilgrid(benchmark::State& state) {
+  const ScenarioEntry* entry = FindScenario("aprilgrid-calibration");
+  if (!entry) {
+    state.SkipWithError("aprilgrid-calibration not available");
+    return;
+  }
+  ScenarioOptions options;
+  options.seed = 1;
+  options.duration_s = static_cast<double>(state.range(0));
+  options.settings = {{"time_offset_ms", "0"}};
+  const Dataset dataset = entry->generate(options);
+  SmootherCrlb bound;
+  for (auto _ : state) {
+    bound = ComputeSmootherCrlb(dataset);
+    benchmark::DoNotOptimize(bound);
+  }
+  if (!bound.ok) {
+    state.SkipWithError(bound.reason.c_str());
+    return;
+  }
+  state.counters["keyframes"] = static_cast<double>(bound.keyframes.size());
+  state.counters["corners"] = static_cast<double>(bound.visual_residuals);
+}
+BENCHMARK(BM_SmootherCrlbAprilgrid)->Arg(10)->Arg(30)->Unit(benchmark::kMillisecond);
 
 // The bounds alone on a synthetic 15-state chain of n states (no dataset).
 void BM_MarkovBounds(benchmark::State& state) {

@@ -28,10 +28,10 @@ std::vector<P2pInstance> MakeP2pInstances(int count) {
   std::vector<P2pInstance> out(count);
   for (auto& inst : out) {
     inst.yaw = rng.Uniform(-M_PI, M_PI);
-    inst.p_W = Eigen::Vector3d(rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(0.5, 2.0));
+    inst.p_W = Eigen::Vector3d{rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(0.5, 2.0)};
     for (int i = 0; i < 2; ++i) {
       const Eigen::Vector3d d =
-          Eigen::Vector3d(rng.Uniform(-0.7, 0.7), rng.Uniform(-0.5, 0.5), -1.0).normalized();
+          Eigen::Vector3d{rng.Uniform(-0.7, 0.7), rng.Uniform(-0.5, 0.5), -1.0}.normalized();
       inst.X_W[i] = inst.p_W + Rz(inst.yaw) * (rng.Uniform(0.5, 3.0) * d);
       inst.v_L[i] = d;
     }
@@ -99,8 +99,7 @@ Scene MakeScene() {
       const auto corners = TagCornersInWorld(tag);
       for (int c = 0; c < 4; ++c) {
         const Eigen::Vector3d p_C = T_C_W * corners[c];
-        const Eigen::Vector2d xy =
-            p_C.head<2>() / p_C.z() + Eigen::Vector2d(rng.Gaussian(), rng.Gaussian()) / 420.0;
+        const Eigen::Vector2d xy = p_C.head<2>() / p_C.z() + rng.GaussianVector<2>() / 420.0;
         obs.corners_px[c] = s.camera.model.NormalizedToPixel(xy);
         s.X_W.push_back(corners[c]);
         s.xy_C.push_back(xy);

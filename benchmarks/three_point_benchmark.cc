@@ -53,8 +53,7 @@ std::vector<Instance> MakeInstances(int count, double bearing_noise_rad, uint64_
       const Eigen::Vector3d X_C = T_C_W * P[i];
       visible = visible && X_C.z() > 0.05 && std::abs(X_C.x() / X_C.z()) < 1.4 &&
                 std::abs(X_C.y() / X_C.z()) < 0.9;
-      in.input.xy[i] = X_C.head<2>() / X_C.z() +
-                       bearing_noise_rad * Eigen::Vector2d(rng.Gaussian(), rng.Gaussian());
+      in.input.xy[i] = X_C.head<2>() / X_C.z() + bearing_noise_rad * rng.GaussianVector<2>();
     }
     if (!visible) continue;
     in.input.roll_rad = in.truth.roll + rng.Uniform(-3, 3) * kDeg;

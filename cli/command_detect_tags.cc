@@ -11,6 +11,7 @@
 #include "cli/option_checks.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "datasets/io/euroc_io.h"
 #include "frontends/apriltag/detect_tags.h"
@@ -109,7 +110,7 @@ void RegisterDetectTags(CLI::App& app, int* exit_code) {
                                             ? std::filesystem::path(args->dataset) / "mav0" /
                                                   ("tags" + std::to_string(index)) / "data.csv"
                                             : std::filesystem::path(args->out);
-      if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+      if (out.has_parent_path()) CreateOutputDirectories(out.parent_path());
       WriteFileAtomically(out.string(), TagsCsv(result.observations));
       const std::filesystem::path poses = out.parent_path() / "poses.csv";
       WriteFileAtomically(poses.string(), TagPosesCsv(result.poses));

@@ -184,7 +184,7 @@ void ImportLog(const ImportArgs& args) {
     const auto [topic, index] = TopicCamera(item, "--images", 0);
     ReportProgress("log import", "exporting images of " + topic);
     const fs::path folder = image_root / ("cam" + std::to_string(index));
-    fs::create_directories(folder);
+    CreateOutputDirectories(folder);
     camera(index).frames = ExportRosbagImages(args.log, topic, folder.string());
     std::vector<TimeNs> t;
     for (const auto& f : camera(index).frames) t.push_back(f.t_ns);

@@ -1,13 +1,19 @@
 // mavloc sweep, sweep-merge, sweep-status (issue 16): Monte-Carlo grids of scenarios x settings x
 // seeds x estimators, run on all local cores, in shards merged exactly, or as a Slurm job array.
 // The engine is evaluation/sweep/ (grid, unit, runner, partials, report, Slurm files); this file
-// only parses options. `sweep-worker` (hidden) runs one unit for the parallel runner.
+// only parses options. `sweep-worker` (hidden) serves units to the parallel runner.
+#include <fmt/format.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <stdexcept>
 
 #include "cli/commands.h"
 #include "core/atomic_file.h"
@@ -261,19 +267,41 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
     *exit_code = 0;
   });
 
-  // ---- sweep-worker (hidden: one unit for the parallel runner) ----
+  // ---- sweep-worker (hidden: serves units to the parallel runner,
+  // evaluation/sweep/sweep_runner.h)
   auto* worker = app.add_subcommand("sweep-worker", "");
   worker->group("");
   auto worker_grid = std::make_shared<std::string>();
-  auto worker_out = std::make_shared<std::string>();
-  auto worker_unit = std::make_shared<size_t>(0);
+  auto worker_folder = std::make_shared<std::string>();
   worker->add_option("--grid", *worker_grid)->required();
-  worker->add_option("--unit", *worker_unit)->required();
-  worker->add_option("--out", *worker_out)->required();
-  worker->callback([worker_grid, worker_out, worker_unit, exit_code] {
+  worker->add_option("--serve", *worker_folder)->required();
+  worker->callback([worker_grid, worker_folder, exit_code] {
     const SweepGrid grid = ReadGridFile(*worker_grid);
-    if (*worker_unit >= SweepUnitCount(grid)) throw InputError("sweep-worker: unit out of range");
-    WriteFileAtomically(*worker_out, RunSweepUnit(grid, *worker_unit).dump());
+    const size_t unit_count = SweepUnitCount(grid);
+    std::string pending;
+    char buffer[256];
+    for (;;) {
+      const ssize_t n = ::read(kSweepWorkerChannelFd, buffer, sizeof(buffer));
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) throw std::runtime_error("sweep-worker: cannot read its channel (fd 3)");
+      if (n == 0) break;  // no unit left
+      pending.append(buffer, static_cast<size_t>(n));
+      size_t newline;
+      while ((newline = pending.find('\n')) != std::string::npos) {
+        const std::string line = pending.substr(0, newline);
+        pending.erase(0, newline + 1);
+        size_t unit = 0;
+        const auto [end, error] = std::from_chars(line.data(), line.data() + line.size(), unit);
+        if (error != std::errc() || end != line.data() + line.size() || unit >= unit_count)
+          throw InputError("sweep-worker: not a unit of the grid: '" + line + "'");
+        WriteFileAtomically(fmt::format("{}/unit-{}.json", *worker_folder, unit),
+                            RunSweepUnit(grid, unit).dump());
+        const std::string reply = line + "\n";
+        if (::write(kSweepWorkerChannelFd, reply.data(), reply.size()) !=
+            static_cast<ssize_t>(reply.size()))
+          throw std::runtime_error("sweep-worker: cannot answer on its channel (fd 3)");
+      }
+    }
     *exit_code = 0;
   });
 }

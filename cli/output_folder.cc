@@ -60,7 +60,7 @@ StagedFolder::StagedFolder(const std::string& target, FolderKind kind) : target_
   staging_ = StagingPathFor(target);
   interrupt_token_ = RegisterTemporaryPath(staging_);
   fs::remove_all(staging_, error);
-  fs::create_directories(staging_, error);
+  CreateOutputDirectories(staging_, error);
   if (error) {
     UnregisterTemporaryPath(interrupt_token_);
     throw InputError(target, 0, "", "cannot create '" + staging_ + "': " + error.message());

@@ -32,10 +32,19 @@ Registry& TheRegistry() {
   // Held until _exit: a thread registering a new temporary path waits instead of creating it.
   registry.mutex.lock();
   registry.interrupted = true;
+  // The command's thread may still be writing files into a folder being removed (remove_all then
+  // fails on a folder that is not empty): remove again until every path is gone. No new folder
+  // can appear (CreateOutputDirectories waits for the mutex), so this ends.
   int removed = 0;
   for (const auto& [token, path] : registry.paths) {
-    std::error_code error;
-    removed += std::filesystem::remove_all(path, error) > 0;
+    bool existed = false;
+    for (int attempt = 0; attempt < 1000; ++attempt) {
+      std::error_code error;
+      if (!std::filesystem::exists(std::filesystem::symlink_status(path, error))) break;
+      existed = true;
+      std::filesystem::remove_all(path, error);
+    }
+    removed += existed;
   }
   const char* name = signal_number == SIGINT ? "SIGINT" : "SIGTERM";
   std::fprintf(stderr, "mavloc: interrupted by %s; removed %d temporary output(s)\n", name,
@@ -67,6 +76,16 @@ long RegisterTemporaryPath(const std::string& path) {
   const long token = registry.next_token++;
   registry.paths[token] = std::filesystem::absolute(path).string();
   return token;
+}
+
+bool CreateOutputDirectories(const std::filesystem::path& path, std::error_code& error) {
+  std::lock_guard<std::mutex> lock(TheRegistry().mutex);
+  return std::filesystem::create_directories(path, error);
+}
+
+bool CreateOutputDirectories(const std::filesystem::path& path) {
+  std::lock_guard<std::mutex> lock(TheRegistry().mutex);
+  return std::filesystem::create_directories(path);
 }
 
 void UnregisterTemporaryPath(long token) {

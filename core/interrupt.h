@@ -8,7 +8,9 @@
 // the signal.
 #pragma once
 
+#include <filesystem>
 #include <string>
+#include <system_error>
 
 namespace mavloc {
 
@@ -20,6 +22,13 @@ void InstallInterruptHandler();
 // the process ends, so that no temporary file is created after the cleanup has run.
 long RegisterTemporaryPath(const std::string& path);
 void UnregisterTemporaryPath(long token);
+
+// std::filesystem::create_directories for every folder mavloc writes output into. Once an
+// interrupt is being handled it blocks until the process ends: the cleanup removes the temporary
+// folders while the command's own thread may still be writing, and a folder created after the
+// removal (writing `staging/mav0/imu0` recreates `staging`) would outlive the process.
+bool CreateOutputDirectories(const std::filesystem::path& path);
+bool CreateOutputDirectories(const std::filesystem::path& path, std::error_code& error);
 
 // RAII registration of one temporary path.
 class TemporaryPathGuard {

@@ -8,6 +8,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "datasets/io/tum_io.h"
 #include "evaluation/comparison.h"
 
@@ -15,7 +16,7 @@ namespace mavloc {
 
 void WriteReportFolder(const std::string& folder, const ReportFiles& files) {
   std::error_code error;
-  std::filesystem::create_directories(folder, error);
+  CreateOutputDirectories(folder, error);
   if (error || !std::filesystem::is_directory(folder))
     throw InputError(folder, 0, "",
                      "cannot create report folder" + (error ? ": " + error.message() : ""));

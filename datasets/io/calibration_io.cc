@@ -157,7 +157,7 @@ CalibrationSource ReadYamlSource(const std::string& path, std::optional<int> fol
   // Multi-camera files: yac config.yaml, Kalibr camchain.yaml.
   std::map<int, Pose> T_cn_cnm1;  // Kalibr chain
   for (const auto& item : yaml) {
-    const std::string key = item.first.as<std::string>();
+    const std::string key = YamlKey(item.first, path);
     const auto index = CameraIndex(key);
     if (!index || !item.second.IsMap()) continue;
     const YAML::Node node = item.second;
@@ -196,7 +196,7 @@ CalibrationSource ReadYamlSource(const std::string& path, std::optional<int> fol
   static const std::regex relative("T_cam0_cam([0-9]{1,2})"), body("T_imu0_cam([0-9]{1,2})"),
       body_inverse("T_cam([0-9]{1,2})_imu0");
   for (const auto& item : yaml) {
-    const std::string key = item.first.as<std::string>();
+    const std::string key = YamlKey(item.first, path);
     std::smatch match;
     if (std::regex_match(key, match, relative)) {
       const int n = std::stoi(match[1].str());

@@ -10,6 +10,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "core/physical_limits.h"
 #include "core/rotation.h"
 #include "datasets/io/text_table.h"
@@ -396,9 +397,7 @@ WorldMap ReadMap(const std::string& path) {
   }
   if (yaml["parameters"]) {
     for (const auto& item : YamlMapField(yaml, "parameters", path)) {
-      if (!item.first.IsScalar())
-        throw InputError(path, YamlLine(item.first), "parameters", "a key must be a single value");
-      const std::string key = item.first.Scalar();
+      const std::string key = YamlKey(item.first, path, "parameters");
       map.parameters[key] = YamlDouble(yaml["parameters"], key, path);
     }
   }
@@ -408,8 +407,10 @@ WorldMap ReadMap(const std::string& path) {
 std::map<std::string, std::string> ReadScenarioInfo(const std::string& path) {
   std::map<std::string, std::string> info;
   const YAML::Node yaml = LoadYamlMap(path);
-  for (const auto& item : yaml)
-    info[item.first.Scalar()] = YamlString(yaml, item.first.Scalar(), path);
+  for (const auto& item : yaml) {
+    const std::string key = YamlKey(item.first, path);
+    info[key] = YamlString(yaml, key, path);
+  }
   return info;
 }
 
@@ -452,7 +453,7 @@ std::string TransformYaml(const Pose& T) {
 }
 
 void WriteImu(const ImuSensor& imu, const fs::path& folder) {
-  fs::create_directories(folder);
+  CreateOutputDirectories(folder);
   std::string yaml = "sensor_type: imu\ncomment: written by mavloc\n" + TransformYaml(imu.T_B_S);
   yaml += "rate_hz: " + Num(imu.rate_hz) + "\n";
   yaml += "gyroscope_noise_density: " + Num(imu.noise.gyroscope_noise_density) + "\n";
@@ -476,7 +477,7 @@ void WriteImu(const ImuSensor& imu, const fs::path& folder) {
 }
 
 void WriteCamera(const CameraSensor& camera, const fs::path& folder) {
-  fs::create_directories(folder / "data");
+  CreateOutputDirectories(folder / "data");
   const CameraModel& m = camera.model;
   std::string yaml =
       "sensor_type: camera\ncomment: written by mavloc\n" + TransformYaml(camera.T_B_C);
@@ -505,7 +506,7 @@ void WriteCamera(const CameraSensor& camera, const fs::path& folder) {
 }
 
 void WriteGroundTruth(const std::vector<GroundTruthState>& states, const fs::path& folder) {
-  fs::create_directories(folder);
+  CreateOutputDirectories(folder);
   std::string csv =
       "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], "
       "q_RS_z [], v_RS_R_x [m s^-1], v_RS_R_y [m s^-1], v_RS_R_z [m s^-1], b_w_RS_S_x [rad s^-1], "
@@ -524,30 +525,30 @@ void WriteGroundTruth(const std::vector<GroundTruthState>& states, const fs::pat
 
 void WriteExtensions(const Dataset& d, const fs::path& mav0) {
   if (!d.features.empty()) {
-    fs::create_directories(mav0 / kFeatures);
+    CreateOutputDirectories(mav0 / kFeatures);
     std::string csv = "#timestamp [ns],landmark_id,x [normalized],y [normalized]\n";
     for (const auto& f : d.features)
       csv += fmt::format("{},{},{},{}\n", f.t_ns, f.landmark_id, Num(f.xy.x()), Num(f.xy.y()));
     WriteFileAtomically((mav0 / kFeatures / "data.csv").string(), csv);
   }
   if (!d.laser.empty()) {
-    fs::create_directories(mav0 / kLaser);
+    CreateOutputDirectories(mav0 / kLaser);
     std::string csv = "#timestamp [ns],x [normalized],y [normalized]\n";
     for (const auto& l : d.laser)
       csv += fmt::format("{},{},{}\n", l.t_ns, Num(l.xy.x()), Num(l.xy.y()));
     WriteFileAtomically((mav0 / kLaser / "data.csv").string(), csv);
   }
   if (!d.tags.empty()) {
-    fs::create_directories(mav0 / kTags);
+    CreateOutputDirectories(mav0 / kTags);
     WriteFileAtomically((mav0 / kTags / "data.csv").string(), TagsCsv(d.tags));
   }
   if (!d.tags1.empty()) {
-    fs::create_directories(mav0 / kTags1);
+    CreateOutputDirectories(mav0 / kTags1);
     WriteFileAtomically((mav0 / kTags1 / "data.csv").string(), TagsCsv(d.tags1));
   }
   const QuantityTable& q = d.truth_quantities;
   if (!q.empty()) {
-    fs::create_directories(mav0 / kTruthQuantities);
+    CreateOutputDirectories(mav0 / kTruthQuantities);
     std::string csv = "#timestamp [ns]";
     for (size_t k = 0; k < q.names.size(); ++k) csv += "," + q.names[k] + " [" + q.units[k] + "]";
     csv += "\n";
@@ -668,7 +669,7 @@ Dataset ReadEurocDataset(const std::string& root, const EurocReadOptions& option
 void WriteEurocDataset(const Dataset& d, const std::string& root) {
   const fs::path mav0 = fs::path(root) / "mav0";
   std::error_code error;
-  fs::create_directories(mav0, error);
+  CreateOutputDirectories(mav0, error);
   if (error) throw InputError(root, 0, "", "cannot create folder: " + error.message());
   if (!d.imu.samples.empty()) WriteImu(d.imu, mav0 / kImu);
   for (const auto& camera : d.cameras) WriteCamera(camera, mav0 / camera.name);
@@ -698,11 +699,11 @@ void WriteEurocDatasetAtomically(const Dataset& d, const std::string& root,
   const fs::path temporary = target.string() + ".tmp-" + suffix;
   fs::remove_all(temporary, error);
   try {
-    fs::create_directories(temporary);
+    CreateOutputDirectories(temporary);
     WriteEurocDataset(d, temporary.string());
     for (const auto& [relative, contents] : extra_files) {
       const fs::path file = temporary / relative;
-      fs::create_directories(file.parent_path());
+      CreateOutputDirectories(file.parent_path());
       WriteFileAtomically(file.string(), contents);
     }
     const fs::path old = target.string() + ".old-" + suffix;

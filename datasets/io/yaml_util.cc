@@ -153,6 +153,13 @@ std::string YamlString(const YAML::Node& node, const std::string& field, const s
   return Scalar(node, field, path).Scalar();
 }
 
+std::string YamlKey(const YAML::Node& key, const std::string& path, const std::string& within) {
+  if (!key.IsScalar())
+    throw InputError(path, YamlLine(key), within,
+                     std::string("a key must be a single value, found ") + KindName(key));
+  return key.Scalar();
+}
+
 std::vector<double> YamlDoubles(const YAML::Node& node, const std::string& field,
                                 const std::string& path, size_t expected_size) {
   const YAML::Node value = YamlListField(node, field, path);

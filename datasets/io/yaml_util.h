@@ -37,6 +37,9 @@ double YamlDoubleIn(const YAML::Node& node, const std::string& field, const std:
 long long YamlInteger(const YAML::Node& node, const std::string& field, const std::string& path,
                       long long lo, long long hi);
 std::string YamlString(const YAML::Node& node, const std::string& field, const std::string& path);
+// The text of a map key; a key that is not a single value (YAML's `? [a, b]` or `? {a: 1}`
+// complex keys) is refused with its line. `within` names the map for the message ("" = the top).
+std::string YamlKey(const YAML::Node& key, const std::string& path, const std::string& within = "");
 std::vector<double> YamlDoubles(const YAML::Node& node, const std::string& field,
                                 const std::string& path, size_t expected_size = 0);
 // A 4x4 transform written as {cols: 4, rows: 4, data: [16 values]} (EuRoC T_BS, yac, OpenCV), a

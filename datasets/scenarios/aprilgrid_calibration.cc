@@ -12,6 +12,7 @@
 #include "core/aprilgrid.h"
 #include "core/board_frame.h"
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "core/random.h"
 #include "core/rotation.h"
@@ -245,7 +246,7 @@ std::vector<TagObservation> ObserveTags(const CameraSensor& camera, int camera_i
     obs.tag_id = id;
     obs.camera = camera_index;
     for (int k = 0; k < 4; ++k) {
-      const Eigen::Vector2d noise(rng.Gaussian(), rng.Gaussian());
+      const Eigen::Vector2d noise{rng.Gaussian(), rng.Gaussian()};
       obs.corners_px[k] = uv[k] + noise_px * noise;
     }
     out.push_back(obs);
@@ -356,7 +357,7 @@ Dataset GenerateAprilgridCalibration(const ScenarioOptions& options) {
                                                   static_cast<long>(getpid())))
                                          .string();
     std::error_code error;
-    std::filesystem::create_directories(folder, error);
+    CreateOutputDirectories(folder, error);
     if (error) throw InputError(folder, 0, "", "cannot create folder: " + error.message());
     const Pose T_W_M(R_W_M, Eigen::Vector3d::Zero());
     for (int c = 0; c < num_cameras; ++c) {

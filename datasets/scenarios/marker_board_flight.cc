@@ -206,7 +206,7 @@ Dataset GenerateMarkerBoardFlight(const ScenarioOptions& options) {
     }
     for (auto& s : seen) {
       for (auto& corner : s.obs.corners_px) {
-        corner += pixel_noise_px * Eigen::Vector2d(noise_rng.Gaussian(), noise_rng.Gaussian());
+        corner += pixel_noise_px * noise_rng.GaussianVector<2>();
         const double u = outlier_rng.Uniform();
         const double angle = outlier_rng.Uniform(-M_PI, M_PI);
         const double magnitude = outlier_rng.Uniform(outlier_min_px, outlier_max_px);

@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "core/random.h"
 #include "core/rotation.h"
@@ -146,7 +147,7 @@ void RenderFrames(const Dataset& d, const StereoRoom& room, const Settings& sett
     CameraSensor& camera = (*cameras)[c];
     const std::filesystem::path camera_folder = std::filesystem::path(folder) / camera.name;
     std::error_code error;
-    std::filesystem::create_directories(camera_folder, error);
+    CreateOutputDirectories(camera_folder, error);
     if (error)
       throw InputError(camera_folder.string(), 0, "image_dir",
                        "cannot create folder: " + error.message());

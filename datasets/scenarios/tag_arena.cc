@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "core/random.h"
 #include "core/rotation.h"
@@ -89,7 +90,7 @@ void RenderFrames(const Trajectory& trajectory, const std::map<int, TagInfo>& ta
                  .string();
   }
   std::error_code error;
-  std::filesystem::create_directories(folder, error);
+  CreateOutputDirectories(folder, error);
   if (error) throw InputError(folder, 0, "image_dir", "cannot create folder: " + error.message());
   const TagRenderer renderer(camera->model, tags, settings.render_options);
   for (size_t i = 0; i < camera->frames.size(); ++i) {
@@ -171,6 +172,11 @@ Dataset BuildArena(const std::string& scenario, const ScenarioOptions& options,
       {"motion", motion_description},
       {"filter_init", filter_init},
   };
+  // The corner noise as a number, for the estimators that weight the corners by it (the smoother
+  // and its Cramér–Rao bound read corner_noise_px; without it they assumed 1 px). Detected corners
+  // of rendered images have no stated noise.
+  if (settings.projected_tags)
+    d.scenario_info["corner_noise_px"] = fmt::format("{}", settings.corner_noise_px);
   return d;
 }
 
@@ -227,7 +233,7 @@ std::vector<TagObservation> ProjectTagCorners(const CameraSensor& camera, const 
     obs.tag_id = id;
     const auto corners_W = TagCornersInWorld(tag);
     for (int k = 0; k < 4; ++k) {
-      const Eigen::Vector2d noise(rng.Gaussian(), rng.Gaussian());
+      const Eigen::Vector2d noise{rng.Gaussian(), rng.Gaussian()};
       obs.corners_px[k] = *camera.model.Project(T_C_W * corners_W[k], 0.05) + noise_px * noise;
     }
     out.push_back(obs);

@@ -27,9 +27,9 @@ struct NeesAccumulator {
 };
 
 // Adds one run: NEES at every stamp of estimate.covariances that has a pose (Estimate::poses, or
-// the quantities x y z roll pitch yaw) and a ground-truth state within 2 ms (interpolated), and
-// whose covariance names x y z (position) or roll pitch yaw (attitude). Returns false when the
-// estimate has no such covariance.
+// the quantities x y z roll pitch yaw) and a ground-truth state (interpolated between rows at most
+// 8 ms apart, else the nearest row within 2 ms), and whose covariance names x y z (position) or
+// roll pitch yaw (attitude). Returns false when the estimate has no such covariance.
 bool AccumulateNees(const Dataset& dataset, const Estimate& estimate, NeesAccumulator* nees);
 
 struct AneesSummary {

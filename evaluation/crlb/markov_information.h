@@ -12,6 +12,21 @@
 //   complements S_k = J_k + D11_k and the backward selected-inversion pass
 //     Sigma_{n-1} = S_{n-1}^-1,  Sigma_k = S_k^-1 + G_k Sigma_{k+1} G_k^T,  G_k = -S_k^-1 D12_k
 //   (the information-form Rauch–Tung–Striebel recursion), linear in n; no dense inverse.
+// Optional static nuisance parameters d (m of them, e.g. a board's 2-DoF tilt to gravity) coupled
+// to every state: H = [[A, B], [B^T, C]] with A the block-tridiagonal part above. The smoothing
+// bound marginalises d out exactly (the CRLB with nuisance parameters, e.g. Kay, "Fundamentals of
+// Statistical Signal Processing: Estimation Theory", 1993, sec. 3.7): by the block inverse,
+//   Sigma_dd = (C - B^T A^-1 B)^-1,  Sigma_xd = -A^-1 B Sigma_dd,
+//   Sigma_xx,k = (A^-1)_kk + (A^-1 B)_k Sigma_dd (A^-1 B)_k^T,
+// where A^-1 B is two block-tridiagonal solves with the same forward factors S_k (still linear in
+// n). The filtering bound with d: when the nuisance information is also given per state
+// (nuisance_node, C = prior + sum C_k), the recursion runs on the augmented (x_k, d), a static
+// parameter with no process noise, by marginalising x_k out of the joint information of
+// (x_k, x_{k+1}, d) at each step:
+//   Ja_{k+1} = [[D22_k + M_{k+1}, B_{k+1}], [B_{k+1}^T, Ja_dd + C_{k+1}]]
+//              - R^T (Ja_xx + D11_k)^-1 R,   R = [D12_k, Ja_xd],
+// and filtering[k] is the (x, x) block of Ja_k^-1. Without nuisance_node the filtering bound
+// ignores the coupling: the bound with d known, smaller, still a lower bound but not a tight one.
 #pragma once
 
 #include <Eigen/Core>
@@ -25,6 +40,12 @@ struct MarkovInformation {
   std::vector<Eigen::MatrixXd> node;
   // Transition information of the edge k -> k+1; size n - 1.
   std::vector<Eigen::MatrixXd> d11, d12, d22;
+  // Static nuisance parameters: B_k (dim of state k x m) per state (size n or empty) and C (m x m).
+  std::vector<Eigen::MatrixXd> coupling;
+  Eigen::MatrixXd nuisance;
+  // Optional: the part C_k of `nuisance` from the measurements of state k (size n; for the
+  // filtering bound with d; the rest of `nuisance` is a prior).
+  std::vector<Eigen::MatrixXd> nuisance_node;
 
   int size() const { return static_cast<int>(node.size()); }
   // Adds the edge k -> k+1 of a linear(ised) transition x_{k+1} = Phi x_k + w, w ~ N(0, Q).
@@ -37,6 +58,12 @@ struct MarkovBounds {
   // Filtering covariance bound J_k^-1 per state; nullopt where J_k is singular (nothing seen yet).
   std::vector<std::optional<Eigen::MatrixXd>> filtering;
   bool smoothing_ok = false;
+  // With nuisance parameters: Sigma_xd per state (dim x m) and Sigma_dd (m x m); else empty.
+  std::vector<Eigen::MatrixXd> smoothing_cross;
+  Eigen::MatrixXd nuisance_covariance;
+  // With nuisance_node: the filtering Sigma_xd (dim x m) and Sigma_dd (m x m) per state, set where
+  // filtering[k] is.
+  std::vector<Eigen::MatrixXd> filtering_cross, filtering_nuisance;
 };
 
 // Both bounds (filtering by the forward recursion, smoothing by forward + backward passes).

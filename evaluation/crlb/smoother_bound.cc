@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/board_frame.h"
 #include "core/rotation.h"
 #include "core/tag_geometry.h"
 #include "evaluation/crlb/markov_information.h"
@@ -97,27 +98,67 @@ void ImuTransition(const Dataset& dataset, const ImuNoise& noise, TimeNs t0, Tim
   }
 }
 
-// Whitened Jacobian (2 x 6, columns dp, dtheta) of the pixel of map point p_W seen from
-// T_W_B * T_B_C, by central differences of CameraModel::Project. False when the point is not in
-// front of the camera.
+// Whitened Jacobian (2 x 8, columns dp, dtheta, then the board tilt d1, d2: the point moved to
+// Exp((d1, d2, 0)) p_W, TiltManifold's left perturbation) of the pixel of map point p_W seen from
+// T_W_B * T_B_C, by central differences of CameraModel::Project (the tilt columns only
+// with_tilt, else zero). False when the point is not in front of the camera.
 bool PixelJacobian(const CameraSensor& camera, const Pose& T_W_B, const Eigen::Vector3d& p_W,
-                   double sigma_px, Eigen::Matrix<double, 2, 6>* J) {
-  const auto project = [&](const Eigen::Matrix<double, 6, 1>& d) -> std::optional<Eigen::Vector2d> {
-    const Pose T(T_W_B.q * ExpQuaternion(d.tail<3>()), T_W_B.p + d.head<3>());
-    const Eigen::Vector3d p_C = (T * camera.T_B_C).Inverse() * p_W;
+                   double sigma_px, bool with_tilt, Eigen::Matrix<double, 2, 8>* J) {
+  using Vector8d = Eigen::Matrix<double, 8, 1>;
+  const auto project = [&](const Vector8d& d) -> std::optional<Eigen::Vector2d> {
+    const Pose T(T_W_B.q * ExpQuaternion(d.segment<3>(3)), T_W_B.p + d.head<3>());
+    const Eigen::Vector3d p_tilted_W = ExpSO3(Eigen::Vector3d(d(6), d(7), 0.0)) * p_W;
+    const Eigen::Vector3d p_C = (T * camera.T_B_C).Inverse() * p_tilted_W;
     if (p_C.z() <= 0.01) return std::nullopt;
     return camera.model.Project(p_C, 0.01);
   };
-  if (!project(Eigen::Matrix<double, 6, 1>::Zero())) return false;
+  if (!project(Vector8d::Zero())) return false;
   const double step = 1e-6;
-  for (int c = 0; c < 6; ++c) {
-    const Eigen::Matrix<double, 6, 1> d = step * Eigen::Matrix<double, 6, 1>::Unit(c);
+  J->setZero();
+  for (int c = 0; c < (with_tilt ? 8 : 6); ++c) {
+    const Vector8d d = step * Vector8d::Unit(c);
     const auto plus = project(d);
     const auto minus = project(-d);
     if (!plus || !minus) return false;
     J->col(c) = (*plus - *minus) / (2.0 * step * sigma_px);
   }
   return true;
+}
+
+// The true gravity direction in the board frame M, from the truth quantities board_roll and
+// board_pitch (roll and pitch of R_W_M, core/board_frame.h; the scenario writes them per frame).
+std::optional<Eigen::Vector3d> TrueUpInBoard(const Dataset& dataset) {
+  const QuantityTable& q = dataset.truth_quantities;
+  const int roll = q.Index("board_roll"), pitch = q.Index("board_pitch");
+  if (roll < 0 || pitch < 0 || q.empty()) return std::nullopt;
+  const double r = q.rows[0][roll], p = q.rows[0][pitch];
+  if (!std::isfinite(r) || !std::isfinite(p)) return std::nullopt;
+  return UpInBoard(Eigen::Matrix3d(Eigen::AngleAxisd(p, Eigen::Vector3d::UnitY()) *
+                                   Eigen::AngleAxisd(r, Eigen::Vector3d::UnitX())));
+}
+
+// K (15 x 2): d(reported error state) / d(tilt d) at the truth. The smoother re-expresses its
+// solution in the canonical W of core/board_frame.h, a rotation Rz(psi) about z_W with
+// psi = psi(d) (solver/smoother/smoother_problem.cc): position and velocity turn by e_z x (.) psi,
+// the attitude (R Exp(dtheta)) by R^T e_z psi. dpsi/dd by central differences of
+// CanonicalBoardToWorldRotation(Exp((d1, d2, 0)) R_W_M).
+Eigen::Matrix<double, 15, 2> CanonicalYawJacobian(const Eigen::Matrix3d& R_W_M, const Pose& T_W_B,
+                                                  const Eigen::Vector3d& v_W) {
+  const auto psi = [&](const Eigen::Vector2d& d) {
+    const Eigen::Matrix3d R = ExpSO3(Eigen::Vector3d(d.x(), d.y(), 0.0)) * R_W_M;
+    const Eigen::Matrix3d R_z = CanonicalBoardToWorldRotation(R) * R.transpose();
+    return std::atan2(R_z(1, 0), R_z(0, 0));
+  };
+  const double h = 1e-6;
+  Eigen::RowVector2d g;
+  for (int c = 0; c < 2; ++c)
+    g(c) = (psi(h * Eigen::Vector2d::Unit(c)) - psi(-h * Eigen::Vector2d::Unit(c))) / (2.0 * h);
+  const Eigen::Vector3d e_z = Eigen::Vector3d::UnitZ();
+  Eigen::Matrix<double, 15, 1> c = Eigen::Matrix<double, 15, 1>::Zero();
+  c.segment<3>(kCrlbP) = e_z.cross(T_W_B.p);
+  c.segment<3>(kCrlbTheta) = T_W_B.R().transpose() * e_z;
+  c.segment<3>(kCrlbV) = e_z.cross(v_W);
+  return c * g;
 }
 
 // Index of the keyframe within the smoother's attach tolerance of t_ns, or -1.
@@ -144,12 +185,24 @@ SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset, const EstimatorOptions&
     out.reason = "no camera";
     return out;
   }
-  if (dataset.map.frame == MapFrame::kBoard) {
-    out.reason = "board map: the board tilt parameter is not in the bound's model";
-    return out;
-  }
   const SmootherEstimator smoother(smoother_options);
   const SmootherProblemOptions options = smoother.ProblemOptionsFor(dataset);
+  const bool board = dataset.map.frame == MapFrame::kBoard;
+  Eigen::Matrix3d R_W_M = Eigen::Matrix3d::Identity();
+  if (board) {
+    if (options.estimate_time_offset || options.estimate_extrinsics) {
+      out.reason =
+          "board map with estimate_time_offset or estimate_extrinsics: the time offset and the "
+          "extrinsics are not in the bound's model (only the board tilt)";
+      return out;
+    }
+    const auto up_M = TrueUpInBoard(dataset);
+    if (!up_M) {
+      out.reason = "board map without the true tilt (truth quantities board_roll, board_pitch)";
+      return out;
+    }
+    R_W_M = BoardToWorldRotation(*up_M);
+  }
   if (!dataset.laser.empty() && dataset.features.empty() && dataset.tags.empty()) {
     out.reason =
         "laser spot on an unknown plane: the plane parameters and the gauge priors of the "
@@ -194,11 +247,26 @@ SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset, const EstimatorOptions&
         1.0 / (options.accel_bias_prior_m_s2 * options.accel_bias_prior_m_s2);
   }
 
+  // Board map: the tilt d (TiltManifold's tangent) is a nuisance parameter coupled to every
+  // keyframe that sees the board (see the header).
+  if (board) {
+    info.coupling.assign(n, Eigen::MatrixXd::Zero(15, 2));
+    info.nuisance = Eigen::MatrixXd::Zero(2, 2);  // no prior on the tilt (as the smoother)
+    // No nuisance_node: the filtering bound is the one with the tilt known (see the header).
+  }
+
   // Vision: map points in pixels.
-  const auto add_point = [&](int k, const CameraSensor& camera, const Eigen::Vector3d& p_W) {
-    Eigen::Matrix<double, 2, 6> J;
-    if (!PixelJacobian(camera, truth[k], p_W, options.pixel_sigma_px, &J)) return;
-    info.node[k].topLeftCorner<6, 6>() += J.transpose() * J;
+  const auto add_point = [&](int k, const CameraSensor& camera, const Eigen::Vector3d& p_map) {
+    const Eigen::Vector3d p_W = board ? Eigen::Vector3d(R_W_M * p_map) : p_map;
+    Eigen::Matrix<double, 2, 8> J;
+    if (!PixelJacobian(camera, truth[k], p_W, options.pixel_sigma_px, board, &J)) return;
+    const Eigen::Matrix<double, 2, 6> J_x = J.leftCols<6>();
+    info.node[k].topLeftCorner<6, 6>() += J_x.transpose() * J_x;
+    if (board) {
+      const Eigen::Matrix<double, 2, 2> J_d = J.rightCols<2>();
+      info.coupling[k].topRows<6>() += J_x.transpose() * J_d;
+      info.nuisance += J_d.transpose() * J_d;
+    }
     ++out.visual_residuals;
   };
   if (features_used) {
@@ -239,12 +307,23 @@ SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset, const EstimatorOptions&
     out.reason = "the information matrix is singular (unobservable states)";
     return out;
   }
+  if (board) out.tilt_covariance = Eigen::Matrix2d(bounds.nuisance_covariance);
   for (int k = 0; k < n; ++k) {
     CrlbKeyframe kf;
     kf.t_ns = times[k];
     kf.T_W_B = truth[k];
     kf.smoothing = bounds.smoothing[k];
     if (bounds.filtering[k]) kf.filtering = Matrix15d(*bounds.filtering[k]);
+    if (board) {
+      // The reported error is dx_k + K_k d (the canonical re-expression, see the header):
+      // Cov = Sigma_xx + K Sigma_dx + Sigma_xd K^T + K Sigma_dd K^T.
+      const Eigen::Matrix<double, 15, 2> K =
+          CanonicalYawJacobian(R_W_M, truth[k], TruthAt(dataset.ground_truth, times[k]).v_W);
+      const Eigen::Matrix<double, 15, 2> X = bounds.smoothing_cross[k];
+      const Matrix15d C = kf.smoothing + K * X.transpose() + X * K.transpose() +
+                          K * bounds.nuisance_covariance * K.transpose();
+      kf.smoothing = 0.5 * (C + C.transpose());
+    }
     out.keyframes.push_back(kf);
   }
   out.ok = true;

@@ -18,7 +18,27 @@
 // - Priors: the smoother's zero-mean prior on the first biases (the turn-on bias sigma the
 //   dataset states, SmootherEstimator::ProblemOptionsFor); no pose prior: known map points fix
 //   the gauge, as in the smoother.
-// Unsupported (reported, no bound): board maps (the tilt parameter), unknown landmarks, bearings
+// - Board maps (MapFrame::kBoard, e.g. aprilgrid-calibration): the smoother estimates the board's
+//   tilt to gravity q_W_M (solver/smoother/smoother_problem.h, TiltManifold: 2 DoF, the yaw of W
+//   is gauge), so the bound includes it as a nuisance parameter d (map point p_W = Exp((d1, d2, 0))
+//   R_W_M p_M, the manifold's tangent at the true R_W_M from the truth quantities board_roll,
+//   board_pitch) and marginalises it out exactly (markov_information.h). The keyframe states stay
+//   in the W whose yaw the manifold fixes; the smoother then re-expresses its solution in the
+//   canonical W of core/board_frame.h, a rotation about z_W by psi(d), so the reported pose is a
+//   function of (x_k, d) and its bound is L Sigma L^T with L = [I, K_k], K_k = d(Rz(psi) x_k)/dd
+//   (the CRLB of a function of the parameters). The filtering bound is the one with the tilt
+//   KNOWN (no K either): the papers' estimators on a board map initialise gravity from a window of
+//   the log (solver/board/board_world.h, gravity_init_s), i.e. they are causal in the pose but not
+//   in the tilt, and a bound with the tilt unknown to a causal estimator (markov_information.h
+//   can compute it: nuisance_node) is huge over the first frames, where gravity in M is not yet
+//   observable from the IMU (126 mm RMS over aprilgrid-calibration, against 0.24 mm with the
+//   tilt known), so it says nothing about them. With the tilt known the bound is smaller, still a
+//   lower bound for any estimator causal in the pose; it can be below the smoothing bound, which
+//   has the tilt unknown. Marginalising rather than bounding gauge-invariant
+//   quantities only: the reported T_W_B in the canonical W is already gauge-invariant (it depends
+//   only on T_M_B and the gravity direction in M). The time offset and extrinsics, when asked to be
+//   estimated, are not modelled (no bound).
+// Unsupported (reported, no bound): unknown landmarks, bearings
 // (three-point scenario) and the laser spot (plane parameters, gauge priors). Bearings have no
 // finite bound under the simulator's angular noise
 // (datasets/simulation/camera_simulator.h PerturbBearing: a Gaussian angle theta ~ N(0, s^2)
@@ -55,6 +75,9 @@ struct SmootherCrlb {
   std::string reason;  // why there is no bound
   std::vector<CrlbKeyframe> keyframes;
   int visual_residuals = 0;  // 2-D measurements in the information
+  // Board map: the bound on the tilt d (left perturbation Exp((d1, d2, 0)) R_W_M about W's x and y
+  // axes, rad^2; as SmootherCalibration::tilt_covariance).
+  std::optional<Eigen::Matrix2d> tilt_covariance;
   double compute_s = 0.0;
 };
 

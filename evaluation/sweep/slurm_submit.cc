@@ -14,6 +14,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "evaluation/sweep/sweep_partial.h"
 
 namespace fs = std::filesystem;
@@ -99,7 +100,7 @@ SlurmFiles WriteSlurmFiles(const SweepGrid& grid, const SlurmOptions& options) {
   if (options.shards < 1) throw InputError("--shards: must be at least 1");
   std::error_code error;
   for (const char* sub : {"", "/partials", "/logs"}) {
-    fs::create_directories(dir + sub, error);
+    CreateOutputDirectories(dir + sub, error);
     if (error) throw InputError(dir + sub, 0, "", "cannot create folder: " + error.message());
   }
   WriteFileAtomically(dir + "/grid.json", SweepGridToJson(grid).dump(2) + "\n");

@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/interrupt.h"
 
 namespace fs = std::filesystem;
 
@@ -109,7 +110,7 @@ std::string PartialFileName(const ShardSpec& spec) {
 std::string WritePartial(const std::string& folder, const SweepGrid& grid, const ShardSpec& spec,
                          const std::vector<nlohmann::json>& units) {
   std::error_code error;
-  fs::create_directories(folder, error);
+  CreateOutputDirectories(folder, error);
   if (error)
     throw InputError(folder, 0, "", "cannot create the partial folder: " + error.message());
   nlohmann::json j;

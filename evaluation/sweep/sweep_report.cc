@@ -8,6 +8,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "evaluation/report_writer.h"
 
 namespace mavloc {
@@ -179,7 +180,7 @@ std::map<std::string, std::string> BuildSweepReport(const SweepGrid& grid,
 
 void WriteSweepReport(const std::string& folder, const std::map<std::string, std::string>& files) {
   std::error_code error;
-  std::filesystem::create_directories(folder, error);
+  CreateOutputDirectories(folder, error);
   if (error) throw InputError(folder, 0, "", "cannot create the report folder: " + error.message());
   for (const auto& [name, contents] : files) WriteFileAtomically(folder + "/" + name, contents);
 }

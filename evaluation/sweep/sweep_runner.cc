@@ -2,8 +2,10 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <poll.h>
 #include <sched.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -67,7 +69,21 @@ std::string WorkerMessage(const std::string& stderr_text) {
   return last;
 }
 
-pid_t StartWorker(const std::vector<std::string>& argv, const std::string& stderr_path) {
+struct Worker {
+  pid_t pid = -1;
+  int channel = -1;         // the parent's end of the worker's socket pair
+  std::string stderr_path;  // read when the worker fails
+  std::string pending;      // bytes received that do not yet form a line
+  long position = -1;       // the unit (position in `indices`) it runs, -1 when idle
+};
+
+// Starts one long-lived worker: argv plus "--serve" (core of the protocol: sweep_runner.h), with a
+// socket pair as its channel on fd 3 (a socket, not a pipe: send(MSG_NOSIGNAL) to a worker that
+// died returns an error instead of killing this process with SIGPIPE).
+Worker StartWorker(const std::vector<std::string>& argv, const std::string& stderr_path) {
+  int fds[2];
+  if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
+    throw std::runtime_error("sweep: socketpair failed");
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
@@ -79,11 +95,15 @@ pid_t StartWorker(const std::vector<std::string>& argv, const std::string& stder
   for (auto& e : environment) envp.push_back(e.data());
   envp.push_back(nullptr);
   const pid_t pid = ::fork();
-  if (pid < 0) throw std::runtime_error("sweep: fork failed");
+  if (pid < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    throw std::runtime_error("sweep: fork failed");
+  }
   if (pid == 0) {
     // Child: signals unblocked (core/interrupt.h blocks them in the parent's threads; the worker's
     // own main() installs its handler again), MAVLOC_QUIET=1, stdout discarded, stderr to a file
-    // the parent reads on failure.
+    // the parent reads on failure, the channel on fd 3 (dup2 clears its close-on-exec flag).
     sigset_t none;
     ::sigemptyset(&none);
     ::sigprocmask(SIG_SETMASK, &none, nullptr);
@@ -91,10 +111,28 @@ pid_t StartWorker(const std::vector<std::string>& argv, const std::string& stder
     const int err_fd = ::open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (null_fd >= 0) ::dup2(null_fd, STDOUT_FILENO);
     if (err_fd >= 0) ::dup2(err_fd, STDERR_FILENO);
+    if (::dup2(fds[1], kSweepWorkerChannelFd) < 0) ::_exit(127);
     ::execve(args[0], args.data(), envp.data());
     ::_exit(127);
   }
-  return pid;
+  ::close(fds[1]);
+  Worker worker;
+  worker.pid = pid;
+  worker.channel = fds[0];
+  worker.stderr_path = stderr_path;
+  return worker;
+}
+
+bool SendLine(int fd, const std::string& line) {
+  const std::string text = line + "\n";
+  size_t sent = 0;
+  while (sent < text.size()) {
+    const ssize_t n = ::send(fd, text.data() + sent, text.size() - sent, MSG_NOSIGNAL);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    sent += static_cast<size_t>(n);
+  }
+  return true;
 }
 
 struct TempFolder {
@@ -138,54 +176,109 @@ std::vector<nlohmann::json> RunSweepUnits(const SweepGrid& grid, const std::vect
   const TemporaryPathGuard remove_on_interrupt(temp.path);  // core/interrupt.h
   const std::string grid_path = temp.path + "/grid.json";
   WriteFileAtomically(grid_path, CanonicalGridText(grid));
-  std::vector<std::string> base;
+  std::vector<std::string> argv;
   for (std::string item : options.worker_argv) {
     if (const auto at = item.find("{grid}"); at != std::string::npos)
       item.replace(at, 6, grid_path);
-    base.push_back(item);
+    argv.push_back(item);
   }
-  std::map<pid_t, size_t> running;  // pid -> position in indices
-  size_t next = 0;
-  auto kill_all = [&] {
-    for (const auto& [pid, position] : running) ::kill(pid, SIGTERM);
-    for (const auto& [pid, position] : running) ::waitpid(pid, nullptr, 0);
-    running.clear();
+  argv.insert(argv.end(), {"--serve", temp.path});
+
+  std::vector<Worker> workers;
+  auto stop_all = [&] {
+    for (Worker& w : workers) {
+      if (w.channel >= 0) ::close(w.channel);
+      w.channel = -1;
+      if (w.pid > 0) ::kill(w.pid, SIGTERM);
+    }
+    for (Worker& w : workers) {
+      if (w.pid > 0) ::waitpid(w.pid, nullptr, 0);
+      w.pid = -1;
+    }
+  };
+  // The failure of worker w: its exit status and the last line of its stderr.
+  auto fail = [&](Worker& w, const std::string& what) {
+    int status = 0;
+    if (w.channel >= 0) ::close(w.channel);
+    w.channel = -1;
+    ::waitpid(w.pid, &status, 0);
+    w.pid = -1;
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    const std::string unit =
+        w.position >= 0 ? std::to_string(indices[static_cast<size_t>(w.position)]) : "-";
+    const std::string text = fmt::format("sweep: unit {} failed (worker exit {}{}): {}", unit, code,
+                                         what, WorkerMessage(ReadFile(w.stderr_path)));
+    stop_all();
+    if (code == 2) throw InputError(text);
+    throw std::runtime_error(text);
+  };
+  size_t next = 0, done = 0;
+  // Hands worker w the next unit, or closes its channel (the worker then exits) when none is left.
+  auto assign = [&](Worker& w) {
+    if (next >= indices.size()) {
+      ::close(w.channel);
+      w.channel = -1;
+      w.position = -1;
+      return;
+    }
+    w.position = static_cast<long>(next);
+    if (!SendLine(w.channel, std::to_string(indices[next]))) fail(w, ", channel closed");
+    ++next;
   };
   try {
-    while (next < indices.size() || !running.empty()) {
-      while (next < indices.size() && static_cast<int>(running.size()) < jobs) {
-        std::vector<std::string> argv = base;
-        const std::string stem = fmt::format("{}/unit-{}", temp.path, indices[next]);
-        argv.insert(argv.end(), {"--unit", std::to_string(indices[next]), "--out", stem + ".json"});
-        running[StartWorker(argv, stem + ".err")] = next;
-        ++next;
+    for (int k = 0; k < jobs; ++k) {
+      workers.push_back(StartWorker(argv, fmt::format("{}/worker-{}.err", temp.path, k)));
+    }
+    for (Worker& w : workers) assign(w);
+    while (done < indices.size()) {
+      std::vector<pollfd> polls;
+      std::vector<Worker*> polled;
+      for (Worker& w : workers) {
+        if (w.channel < 0) continue;
+        polls.push_back({w.channel, POLLIN, 0});
+        polled.push_back(&w);
       }
-      int status = 0;
-      const pid_t pid = ::waitpid(-1, &status, 0);
-      if (pid < 0) {
+      if (polls.empty()) throw std::logic_error("sweep: units left but no worker");
+      if (::poll(polls.data(), polls.size(), -1) < 0) {
         if (errno == EINTR) continue;
-        throw std::runtime_error("sweep: waitpid failed");
+        throw std::runtime_error("sweep: poll failed");
       }
-      const auto it = running.find(pid);
-      if (it == running.end()) continue;  // not one of ours
-      const size_t position = it->second;
-      running.erase(it);
-      const std::string stem = fmt::format("{}/unit-{}", temp.path, indices[position]);
-      const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
-      if (!ok) {
-        const std::string message = WorkerMessage(ReadFile(stem + ".err"));
-        const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        kill_all();
-        const std::string text = fmt::format("sweep: unit {} failed (worker exit {}): {}",
-                                             indices[position], code, message);
-        if (code == 2) throw InputError(text);
-        throw std::runtime_error(text);
+      for (size_t p = 0; p < polls.size(); ++p) {
+        if (polls[p].revents == 0) continue;
+        Worker& w = *polled[p];
+        char buffer[256];
+        const ssize_t n = ::recv(w.channel, buffer, sizeof(buffer), 0);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+          fail(w, "");  // the worker ended with a unit outstanding; throws
+          continue;
+        }
+        w.pending.append(buffer, static_cast<size_t>(n));
+        size_t newline;
+        while ((newline = w.pending.find('\n')) != std::string::npos) {
+          const std::string line = w.pending.substr(0, newline);
+          w.pending.erase(0, newline + 1);
+          const size_t position = static_cast<size_t>(w.position);
+          if (w.position < 0 || line != std::to_string(indices[position]))
+            fail(w, ", unexpected reply '" + line + "'");
+          results[position] = nlohmann::json::parse(
+              ReadFile(fmt::format("{}/unit-{}.json", temp.path, indices[position])));
+          ++done;
+          progress.UnitDone();
+          assign(w);
+        }
       }
-      results[position] = nlohmann::json::parse(ReadFile(stem + ".json"));
-      progress.UnitDone();
+    }
+    // Every channel is closed now: each worker sees the end of its input and exits 0.
+    for (Worker& w : workers) {
+      int status = 0;
+      ::waitpid(w.pid, &status, 0);
+      w.pid = -1;
+      if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        throw std::runtime_error("sweep: a worker did not exit cleanly after its last unit");
     }
   } catch (...) {
-    kill_all();
+    stop_all();
     throw;
   }
   return results;

@@ -36,6 +36,12 @@ EstimatorOptions OptionsFor(const std::string& estimator, const std::vector<std:
   }
   for (const auto& [key, value] : global)
     if (entry && entry->HasOption(key) && !specific.Has(key)) specific.Set(key, value);
+  // A sweep's parallelism is across units (--jobs, shards): an estimator with its own thread pool
+  // (the smoother's Ceres solve, 2 threads by default) runs on one thread unless the grid says
+  // otherwise, so that N jobs use N cores without oversubscribing them, and every unit gives the
+  // same numbers whatever --jobs is.
+  if (entry && entry->HasOption("threads") && !specific.Has("threads"))
+    specific.Set("threads", "1");
   return specific;
 }
 

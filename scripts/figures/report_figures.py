@@ -663,11 +663,55 @@ def repro_json_figure(out, path, estimators, index):
     return True
 
 
+def crlb_csv_figure(out, folder, name):
+    """crlb_<scenario>.csv (`mavloc repro smoother`, issue 15): per estimator the RMS over runs of
+    its position and attitude errors (solid) against the RMS of its Cramér–Rao bound (dashed, same
+    color), on a logarithmic axis: the errors span orders of magnitude between estimators."""
+    header, rows = read_csv(os.path.join(folder, name))
+    need = ("estimator", "curve", "t [s]", "position [m]", "attitude [rad]")
+    if not rows or any(h not in header for h in need):
+        return repro_csv_figure(out, folder, name)
+    ie, ic, it, ip, ia = (header.index(h) for h in need)
+    series = OrderedDict()
+    for r in rows:
+        series.setdefault(r[ie], OrderedDict()).setdefault(r[ic], []).append(r)
+    colors = color_map(list(series))
+    fig, axes = plt.subplots(2, 1, figsize=(10, 6.2), sharex=True, squeeze=False)
+    panels = ((ip, 1e3, "position error RMS [mm]"), (ia, 180.0 / math.pi,
+                                                        "attitude error RMS [deg]"))
+    for ax, (col, scale, ylabel) in zip(axes[:, 0], panels):
+        for estimator, curves in series.items():
+            for curve, rs in curves.items():
+                pts = sorted((to_float(r[it]), scale * to_float(r[col])) for r in rs)
+                pts = [(t, v) for t, v in pts if math.isfinite(t) and math.isfinite(v) and v > 0]
+                if not pts:
+                    continue
+                bound = curve != "RMSE"
+                ax.plot([t for t, _ in pts], [v for _, v in pts], color=colors[estimator],
+                        linewidth=1.1 if bound else 0.8, linestyle="--" if bound else "-",
+                        label=f"{estimator} / {curve}")
+        ax.set_yscale("log")
+        ax.set_ylabel(ylabel, fontsize="small")
+        ax.grid(True, which="both", alpha=0.3)
+    handles, _ = axes[0, 0].get_legend_handles_labels()
+    if handles:
+        axes[0, 0].legend(fontsize="x-small", loc="upper right", ncol=2)
+    axes[-1, 0].set_xlabel("t [s]")
+    fig.suptitle(name)
+    out.save(fig, os.path.splitext(name)[0] + ".png",
+             f"{name}: error RMS over the Monte-Carlo runs (solid) against the Cramér–Rao bound "
+             "(dashed, same color: the smoothing bound for the smoother, the filtering bound for "
+             "the causal estimators), logarithmic scale.")
+
+
 def repro_figures(out, folder):
     for name in sorted(os.listdir(folder)):
         if name.endswith(".csv") and len(out.written) < MAX_REPRO_FIGURES:
             try:
-                repro_csv_figure(out, folder, name)
+                if name.startswith("crlb_"):
+                    crlb_csv_figure(out, folder, name)
+                else:
+                    repro_csv_figure(out, folder, name)
             except (ValueError, IndexError, KeyError) as error:
                 print(f"report_figures: {name}: skipped ({error})", file=sys.stderr)
     path = os.path.join(folder, "report.json")

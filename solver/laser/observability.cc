@@ -213,7 +213,7 @@ LaserSystemState RandomLaserSystemState(Rng& rng, double L_m) {
   LaserSystemState S;
   while (true) {
     for (int j = 0; j < 6; ++j) S[j] = rng.Uniform(-1.0, 1.0);
-    Eigen::Vector4d q(rng.Gaussian(), rng.Gaussian(), rng.Gaussian(), rng.Gaussian());
+    Eigen::Vector4d q{rng.Gaussian(), rng.Gaussian(), rng.Gaussian(), rng.Gaussian()};
     S.segment<4>(kQt) = q.normalized();
     S[kK] = rng.Uniform(-1.0, 1.0);
     const double distance = (S[kRz] - S[kK] * S[kRy]) / std::sqrt(1.0 + S[kK] * S[kK]);

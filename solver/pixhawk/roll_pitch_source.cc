@@ -48,14 +48,14 @@ RollPitchSource::RollPitchSource(const Dataset& dataset, const RollPitchSourceOp
   // Truth + first-order Gauss-Markov error e_k = a e_{k-1} + sqrt(1 - a^2) sigma n_k.
   Rng rng(options.attitude_error_seed);
   const double sigma = options.attitude_error_deg * M_PI / 180.0;
-  Eigen::Vector2d error(sigma * rng.Gaussian(), sigma * rng.Gaussian());
+  Eigen::Vector2d error{sigma * rng.Gaussian(), sigma * rng.Gaussian()};
   TimeNs previous = 0;
   for (size_t k = 0; k < dataset.ground_truth.size(); ++k) {
     const GroundTruthState& gt = dataset.ground_truth[k];
     if (k > 0) {
       const double a = std::exp(-NsToSeconds(gt.t_ns - previous) / options.attitude_error_tau_s);
       const double s = std::sqrt(std::max(0.0, 1.0 - a * a)) * sigma;
-      error = a * error + Eigen::Vector2d(s * rng.Gaussian(), s * rng.Gaussian());
+      error = a * error + Eigen::Vector2d{s * rng.Gaussian(), s * rng.Gaussian()};
     }
     previous = gt.t_ns;
     const EulerRpy rpy = EulerFromQuaternion(gt.T_W_B.q);

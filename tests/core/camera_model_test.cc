@@ -47,7 +47,7 @@ TEST(CameraModel, ProjectUnprojectRoundTrip) {
   for (const CameraModel& cam :
        {EurocCam0(), Equidistant(), CameraModel(640, 480, Eigen::Vector4d(500, 500, 320, 240))}) {
     for (int i = 0; i < 500; ++i) {
-      const Eigen::Vector2d uv(rng.Uniform(0, cam.width() - 1), rng.Uniform(0, cam.height() - 1));
+      const Eigen::Vector2d uv{rng.Uniform(0, cam.width() - 1), rng.Uniform(0, cam.height() - 1)};
       const auto f = cam.Unproject(uv);
       ASSERT_TRUE(f.has_value());
       EXPECT_NEAR(f->norm(), 1.0, 1e-12);

@@ -8,7 +8,7 @@
 namespace mavloc {
 namespace {
 
-Pose RandomPose(Rng& rng) { return Pose(ExpQuaternion(rng.Gaussian3(1.0)), rng.Gaussian3(2.0)); }
+Pose RandomPose(Rng& rng) { return Pose{ExpQuaternion(rng.Gaussian3(1.0)), rng.Gaussian3(2.0)}; }
 
 TEST(Pose, ComposeInverseAndAct) {
   Rng rng(5);

@@ -209,6 +209,14 @@ TEST(CalibrationIo, BadInputNamesFileLineAndField) {
     EXPECT_NE(ErrorOf(path).find("say which camera with camN="), std::string::npos);
     EXPECT_EQ(ReadCalibrationSource(path, 1).cameras.count(1), 1u);
   }
+  {
+    // A complex key (YAML `? ...`): found by fuzz_calibration, where yaml-cpp's "bad conversion"
+    // escaped as an internal error.
+    const std::string e = ErrorOf(
+        WriteFile(dir, "g.yaml", "settings:\n  verbose: true\n? {a: 1}\n: 2\nimu0:\n  rate: 1\n"));
+    EXPECT_NE(e.find("g.yaml:3: a key must be a single value, found a map"), std::string::npos)
+        << e;
+  }
   EXPECT_NE(ErrorOf(WriteFile(dir, "f.yaml", "settings: {verbose: true}\n"))
                 .find("holds no camera, IMU or aprilgrid calibration"),
             std::string::npos);

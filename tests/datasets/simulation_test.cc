@@ -22,7 +22,7 @@ std::unique_ptr<SplineTrajectory> RandomTrajectory(uint64_t seed, AttitudeMode m
   for (double t = 0.0; t <= duration_s; t += 1.0) {
     Waypoint w;
     w.t_s = t;
-    w.p_W = Eigen::Vector3d(rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(1, 2));
+    w.p_W = Eigen::Vector3d{rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(1, 2)};
     w.yaw_rad = rng.Uniform(-M_PI, M_PI);
     w.roll_rad = rng.Uniform(-0.3, 0.3);
     w.pitch_rad = rng.Uniform(-0.3, 0.3);
@@ -188,7 +188,7 @@ TEST(CameraSimulator, PixelNoiseIsSeededSeparately) {
   std::map<int, Eigen::Vector3d> landmarks;
   Rng rng(1);
   for (int i = 0; i < 50; ++i)
-    landmarks[i] = Eigen::Vector3d(rng.Uniform(-3, 3), rng.Uniform(-3, 3), 0.0);
+    landmarks[i] = Eigen::Vector3d{rng.Uniform(-3, 3), rng.Uniform(-3, 3), 0.0};
   CameraSimulationOptions options;
   options.noise_kind = CameraNoiseKind::kPixel;
   options.noise_sigma = 1.0;

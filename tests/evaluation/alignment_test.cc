@@ -21,9 +21,9 @@ std::vector<StampedPose> RandomTrajectory(Rng& rng, int n) {
   for (int i = 0; i < n; ++i) {
     p += rng.Gaussian3(0.1);
     poses.push_back({1'000'000'000 + i * 50'000'000LL,
-                     Pose(QuaternionFromEuler(
+                     Pose{QuaternionFromEuler(
                               {rng.Uniform(-0.3, 0.3), rng.Uniform(-0.3, 0.3), rng.Uniform(-3, 3)}),
-                          p)});
+                          p}});
   }
   return poses;
 }

@@ -176,8 +176,11 @@ TEST(BoardEstimators, TagArenaDynamic) {
   // tag-pnp's pose in M does not depend on T_W_M: the same PnP in another frame. Only the
   // Levenberg-Marquardt stop of a few ill-conditioned single-tag frames depends on the frame
   // (there 2-4 cm apart, both about as far from the truth; 97 % of the poses agree to 1 mm).
+  // (The gravity direction both estimators get is the initialisation's, checked over seeds in
+  // BoardInitialisationGravityOverSeeds.)
   const Comparison pnp = Compare("tag-pnp", world, board, T_M_W, init);
-  EXPECT_LT(pnp.gravity_error_rad, 0.25 * kDeg);
+  EXPECT_NEAR(pnp.gravity_error_rad,
+              AngleBetween(UpInBoard(init.T_W_M.R()), T_M_W.R() * Eigen::Vector3d::UnitZ()), 1e-12);
   EXPECT_GT(pnp.same_pose_fraction, 0.95);
   EXPECT_LT(pnp.board.position_rmse_m, 1.5 * pnp.world.position_rmse_m + 0.005);
 
@@ -185,9 +188,33 @@ TEST(BoardEstimators, TagArenaDynamic) {
   // the only difference is the estimated gravity direction.
   const std::map<std::string, std::string> window = {{"init", "window"}};
   const Comparison ekf = Compare("tag-ekf", world, board, T_M_W, init, window);
-  EXPECT_LT(ekf.gravity_error_rad, 0.25 * kDeg);
+  EXPECT_DOUBLE_EQ(ekf.gravity_error_rad, pnp.gravity_error_rad);
   EXPECT_LT(ekf.board.position_rmse_m, 1.5 * ekf.world.position_rmse_m + 0.005);
   EXPECT_LT(ekf.board.rotation_rmse_rad, 1.5 * ekf.world.rotation_rmse_rad + 0.1 * kDeg);
+}
+
+// The board initialisation's gravity direction (2 s window of tag PnP and IMU) on
+// tag-arena-dynamic: one seed's error is a draw from a wide distribution (over seeds 1-30: RMS
+// 0.139 deg, largest 0.281 deg), so the check is on the RMS over ten seeds, whose own spread is
+// about 16 % (20 degrees of freedom): 0.2 deg is 2.7 sigma above the expected 0.14 deg.
+TEST(BoardEstimators, BoardInitialisationGravityOverSeeds) {
+  double sum_squared_rad2 = 0.0;
+  const int seeds = 10;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    ScenarioOptions options;
+    options.seed = seed;
+    options.duration_s = 20.0;
+    const Pose T_M_W = BoardFromWorld();
+    const Dataset board = ToBoard(GenerateTagArenaDynamic(options), T_M_W);
+    const BoardWorld init = Initialize(board);
+    const double error_rad =
+        AngleBetween(UpInBoard(init.T_W_M.R()), T_M_W.R() * Eigen::Vector3d::UnitZ());
+    sum_squared_rad2 += error_rad * error_rad;
+  }
+  const double rms_rad = std::sqrt(sum_squared_rad2 / seeds);
+  std::printf("board initialisation gravity error, RMS over %d seeds: %.3f deg\n", seeds,
+              rms_rad / kDeg);
+  EXPECT_LT(rms_rad, 0.2 * kDeg);
 }
 
 TEST(BoardEstimators, TagArenaHover) {

@@ -113,6 +113,87 @@ TEST(CrlbMarkov, SmoothingBoundEqualsDenseInverse) {
     EXPECT_LT(RelativeDifference(bounds.smoothing[k], H_inv.block(3 * k, 3 * k, 3, 3)), 1e-9);
 }
 
+// Static nuisance parameters coupled to every state (a board tilt): the smoothing bound, the
+// cross covariances and the nuisance covariance equal the blocks of the dense inverse of the full
+// information [[A, B], [B^T, C]]; and the nuisance can only raise the bound.
+TEST(CrlbMarkov, NuisanceParametersAreMarginalisedExactly) {
+  const Chain c = MakeChain(25, 3, 7);
+  MarkovInformation info = InformationOf(c);
+  const MarkovBounds known = ComputeMarkovBounds(info);
+  Rng rng(11);
+  const int m = 2;
+  // Measurements z_k = H_k x_k + E_k d + v_k on most states (whitened, unit noise).
+  const Eigen::MatrixXd prior = 0.1 * Eigen::MatrixXd::Identity(m, m);  // a weak prior on d
+  info.nuisance = prior;
+  for (int k = 0; k < c.n; ++k) {
+    const Eigen::MatrixXd Hx = RandomMatrix(2, 3, rng), Hd = RandomMatrix(2, m, rng);
+    const bool seen = k % 5 != 2;
+    if (seen) info.node[k] += Hx.transpose() * Hx;
+    info.coupling.push_back(seen ? Eigen::MatrixXd(Hx.transpose() * Hd)
+                                 : Eigen::MatrixXd::Zero(3, m));
+    info.nuisance_node.push_back(seen ? Eigen::MatrixXd(Hd.transpose() * Hd)
+                                      : Eigen::MatrixXd::Zero(m, m));
+    info.nuisance += info.nuisance_node.back();
+  }
+  const int N = 3 * c.n;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(N + m, N + m);
+  H.topLeftCorner(N, N) = DenseInformation(info);
+  for (int k = 0; k < c.n; ++k) {
+    H.block(3 * k, N, 3, m) = info.coupling[k];
+    H.block(N, 3 * k, m, 3) = info.coupling[k].transpose();
+  }
+  H.bottomRightCorner(m, m) = info.nuisance;
+  const Eigen::MatrixXd H_inv = H.inverse();
+  const MarkovBounds bounds = ComputeMarkovBounds(info);
+  ASSERT_TRUE(bounds.smoothing_ok);
+  ASSERT_EQ(bounds.smoothing_cross.size(), static_cast<size_t>(c.n));
+  EXPECT_LT(RelativeDifference(bounds.nuisance_covariance, H_inv.bottomRightCorner(m, m)), 1e-9);
+  for (int k = 0; k < c.n; ++k) {
+    EXPECT_LT(RelativeDifference(bounds.smoothing[k], H_inv.block(3 * k, 3 * k, 3, 3)), 1e-9);
+    EXPECT_LT(RelativeDifference(bounds.smoothing_cross[k], H_inv.block(3 * k, N, 3, m)), 1e-9);
+  }
+  // Filtering with d: the block of x_k in the inverse of the information of the data up to k
+  // (states 0..k, d with its prior and the measurements up to k).
+  for (int k = 0; k < c.n; ++k) {
+    MarkovInformation head;
+    head.node.assign(info.node.begin(), info.node.begin() + k + 1);
+    head.d11.assign(info.d11.begin(), info.d11.begin() + k);
+    head.d12.assign(info.d12.begin(), info.d12.begin() + k);
+    head.d22.assign(info.d22.begin(), info.d22.begin() + k);
+    const int Nk = 3 * (k + 1);
+    Eigen::MatrixXd Hk = Eigen::MatrixXd::Zero(Nk + m, Nk + m);
+    Hk.topLeftCorner(Nk, Nk) = DenseInformation(head);
+    Eigen::MatrixXd dd = prior;
+    for (int j = 0; j <= k; ++j) {
+      Hk.block(3 * j, Nk, 3, m) = info.coupling[j];
+      Hk.block(Nk, 3 * j, m, 3) = info.coupling[j].transpose();
+      dd += info.nuisance_node[j];
+    }
+    Hk.bottomRightCorner(m, m) = dd;
+    const Eigen::MatrixXd Hk_inv = Hk.inverse();
+    ASSERT_TRUE(bounds.filtering[k].has_value()) << k;
+    EXPECT_LT(RelativeDifference(*bounds.filtering[k], Hk_inv.block(3 * k, 3 * k, 3, 3)), 1e-8)
+        << k;
+    EXPECT_LT(RelativeDifference(bounds.filtering_cross[k], Hk_inv.block(3 * k, Nk, 3, m)), 1e-8)
+        << k;
+    EXPECT_LT(RelativeDifference(bounds.filtering_nuisance[k], Hk_inv.bottomRightCorner(m, m)),
+              1e-8)
+        << k;
+  }
+  // The last state: nothing in its future, filtering = smoothing.
+  EXPECT_LT(RelativeDifference(*bounds.filtering[c.n - 1], bounds.smoothing[c.n - 1]), 1e-8);
+
+  // Without the coupling (d known) the same measurements give a bound that is not larger.
+  MarkovInformation without = info;
+  without.coupling.clear();
+  without.nuisance_node.clear();
+  without.nuisance.resize(0, 0);
+  const MarkovBounds d_known = ComputeMarkovBounds(without);
+  for (int k = 0; k < c.n; ++k)
+    EXPECT_LE(d_known.smoothing[k].trace(), bounds.smoothing[k].trace() * (1 + 1e-12));
+  EXPECT_EQ(known.smoothing.size(), static_cast<size_t>(c.n));
+}
+
 TEST(CrlbMarkov, FilteringBoundUnsetUntilObservable) {
   // No prior and a 1-D measurement of a 2-D state: J_0 is singular, J_1 is not (the transition
   // mixes the components).

@@ -18,7 +18,7 @@ std::unique_ptr<SplineTrajectory> AggressiveTrajectory(uint64_t seed, AttitudeMo
   for (double t = 0.0; t <= 10.0; t += 1.0) {
     Waypoint w;
     w.t_s = t;
-    w.p_W = Eigen::Vector3d(rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(0.5, 2.5));
+    w.p_W = Eigen::Vector3d{rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(0.5, 2.5)};
     w.yaw_rad = rng.Uniform(-M_PI, M_PI);
     w.roll_rad = rng.Uniform(-0.5, 0.5);
     w.pitch_rad = rng.Uniform(-0.5, 0.5);
@@ -47,6 +47,9 @@ IntegrationErrors IntegrateTenSeconds(const Trajectory& trajectory, double rate_
   IntegrationErrors e;
   const TimeNs t_end = gt0.t_ns + 10 * kNsPerSecond;
   EXPECT_LE(t_end, sim.imu.samples.back().t_ns);
+  double path_length_m = 0.0;  // along the true trajectory, sampled every 10 ms
+  for (TimeNs t = gt0.t_ns + kNsPerSecond / 100; t <= t_end; t += kNsPerSecond / 100)
+    path_length_m += (trajectory.At(t).p_W - trajectory.At(t - kNsPerSecond / 100).p_W).norm();
   for (TimeNs t = gt0.t_ns + kNsPerSecond; t <= t_end; t += kNsPerSecond) {
     state = integrator.Integrate(state, t, biases);
     const auto truth = trajectory.At(t);
@@ -54,8 +57,9 @@ IntegrationErrors IntegrateTenSeconds(const Trajectory& trajectory, double rate_
     e.max_rotation_rad =
         std::max(e.max_rotation_rad, RotationAngleBetween(state.q_W_B, truth.q_W_B));
   }
-  // The motion is not trivial: the vehicle travels metres.
-  EXPECT_GT((trajectory.At(t_end).p_W - gt0.T_W_B.p).norm(), 1.0);
+  // The motion is not trivial: the vehicle travels metres (along its path; where it ends may be
+  // near where it started).
+  EXPECT_GT(path_length_m, 1.0);
   return e;
 }
 

@@ -18,9 +18,9 @@ namespace mavloc {
 namespace {
 
 Pose RandomPose(Rng& rng) {
-  const Eigen::Vector3d phi(rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(-2, 2));
-  return Pose(Eigen::Matrix3d(ExpSO3(phi)),
-              Eigen::Vector3d(rng.Uniform(-3, 3), rng.Uniform(-3, 3), rng.Uniform(-3, 3)));
+  const Eigen::Vector3d phi{rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(-2, 2)};
+  return Pose{Eigen::Matrix3d(ExpSO3(phi)),
+              Eigen::Vector3d{rng.Uniform(-3, 3), rng.Uniform(-3, 3), rng.Uniform(-3, 3)}};
 }
 
 TEST(MapInWorld, MovesTagsLandmarksAndPlaneRigidly) {
@@ -29,7 +29,7 @@ TEST(MapInWorld, MovesTagsLandmarksAndPlaneRigidly) {
     WorldMap map_M;
     map_M.frame = MapFrame::kBoard;
     for (int id = 0; id < 4; ++id) map_M.tags[id] = {id, 0.1 + 0.05 * id, RandomPose(rng)};
-    map_M.landmarks_W[3] = Eigen::Vector3d(rng.Uniform(-1, 1), rng.Uniform(-1, 1), 0.5);
+    map_M.landmarks_W[3] = Eigen::Vector3d{rng.Uniform(-1, 1), rng.Uniform(-1, 1), 0.5};
     const Eigen::Vector3d n_M = Eigen::Vector3d(rng.Uniform(-1, 1), 0.3, 1.0).normalized();
     map_M.plane = Plane{n_M, 0.7};
     const Pose T_W_M = RandomPose(rng);

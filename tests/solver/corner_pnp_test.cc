@@ -50,8 +50,7 @@ std::vector<TagObservation> Observe(const Pose& T_W_B, const CameraSensor& camer
     for (int k = 0; k < 4 && visible; ++k) {
       const auto uv = camera.model.Project(T_C_W * corners[k]);
       visible = uv && camera.model.IsInside(*uv);
-      if (visible)
-        obs.corners_px[k] = *uv + sigma_px * Eigen::Vector2d(rng.Gaussian(), rng.Gaussian());
+      if (visible) obs.corners_px[k] = *uv + sigma_px * rng.GaussianVector<2>();
     }
     if (visible) out.push_back(obs);
   }
@@ -59,10 +58,10 @@ std::vector<TagObservation> Observe(const Pose& T_W_B, const CameraSensor& camer
 }
 
 Pose RandomPose(Rng& rng) {
-  return Pose(
+  return Pose{
       RotationFromEuler(
           {rng.Uniform(-0.15, 0.15), rng.Uniform(-0.15, 0.15), rng.Uniform(-M_PI, M_PI)}),
-      Eigen::Vector3d(rng.Uniform(-0.5, 0.5), rng.Uniform(-0.5, 0.5), rng.Uniform(0.8, 1.6)));
+      Eigen::Vector3d{rng.Uniform(-0.5, 0.5), rng.Uniform(-0.5, 0.5), rng.Uniform(0.8, 1.6)}};
 }
 
 TEST(CornerPnpTest, NoiselessBoardGivesTheExactPose) {

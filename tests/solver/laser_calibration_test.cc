@@ -51,8 +51,8 @@ std::vector<Eigen::Vector3d> SpotsOnBoards(const LaserCalibration& truth, int co
   std::vector<Eigen::Vector3d> spots;
   while (static_cast<int>(spots.size()) < count) {
     // A board 0.5 .. 3 m away, tilted up to 30 deg, with normal roughly facing the camera.
-    const Eigen::Vector3d normal_C =
-        (Rx(rng.Uniform(-0.5, 0.5)) * Ry(rng.Uniform(-0.5, 0.5)) * Eigen::Vector3d(0, 0, -1));
+    const double tilt_x_rad = rng.Uniform(-0.5, 0.5), tilt_y_rad = rng.Uniform(-0.5, 0.5);
+    const Eigen::Vector3d normal_C = Rx(tilt_x_rad) * Ry(tilt_y_rad) * Eigen::Vector3d(0, 0, -1);
     const Plane board_C{normal_C, normal_C.dot(Eigen::Vector3d(0, 0, rng.Uniform(0.5, 3.0)))};
     LaserSpot spot;
     if (ProjectLaserSpot(Pose(), beam, board_C, &spot) != LaserSpotStatus::kOk) continue;
@@ -122,12 +122,9 @@ TEST(LaserCalibration, ObservationInTheChosenFrameFollowsEquation11) {
   const LaserBeam beam = BeamFromCalibration(c);
   int checked = 0;
   for (int trial = 0; trial < 1000; ++trial) {
-    const Plane plane{Eigen::Vector3d(rng.Gaussian(), rng.Gaussian(), rng.Gaussian()).normalized(),
-                      rng.Uniform(-1, 1)};
-    const Eigen::Quaterniond q_W_C =
-        Eigen::Quaterniond(rng.Gaussian(), rng.Gaussian(), rng.Gaussian(), rng.Gaussian())
-            .normalized();
-    const Pose T_W_C(q_W_C, Eigen::Vector3d(rng.Uniform(-1, 1), rng.Uniform(-1, 1), 0));
+    const Plane plane{rng.GaussianVector<3>().normalized(), rng.Uniform(-1, 1)};
+    const Eigen::Quaterniond q_W_C = Eigen::Quaterniond(rng.GaussianVector<4>()).normalized();
+    const Pose T_W_C{q_W_C, Eigen::Vector3d{rng.Uniform(-1, 1), rng.Uniform(-1, 1), 0}};
     LaserSpot spot;
     if (ProjectLaserSpot(T_W_C, beam, plane, &spot) != LaserSpotStatus::kOk) continue;
     const Eigen::Vector3d bearing_Cp = frame.q_C_Cp.conjugate() * spot.p_C;

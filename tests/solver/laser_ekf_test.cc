@@ -36,15 +36,12 @@ TEST(LaserEkf, DynamicsEquation9MatchesRigidBodyKinematics) {
   Rng rng(1);
   int positive = 0, negative = 0;
   for (int trial = 0; trial < 200; ++trial) {
-    const Plane plane{Eigen::Vector3d(rng.Gaussian(), rng.Gaussian(), rng.Gaussian()).normalized(),
-                      rng.Uniform(-1, 1)};
-    const Eigen::Quaterniond q =
-        Eigen::Quaterniond(rng.Gaussian(), rng.Gaussian(), rng.Gaussian(), rng.Gaussian())
-            .normalized();
-    const Eigen::Vector3d p(rng.Gaussian(), rng.Gaussian(), rng.Gaussian());
-    const Eigen::Vector3d v(rng.Gaussian(), rng.Gaussian(), rng.Gaussian());
-    const Eigen::Vector3d a(rng.Gaussian(), rng.Gaussian(), rng.Gaussian());
-    const Eigen::Vector3d w(rng.Gaussian(), rng.Gaussian(), rng.Gaussian());
+    const Plane plane{rng.GaussianVector<3>().normalized(), rng.Uniform(-1, 1)};
+    const Eigen::Quaterniond q = Eigen::Quaterniond(rng.GaussianVector<4>()).normalized();
+    const Eigen::Vector3d p{rng.Gaussian(), rng.Gaussian(), rng.Gaussian()};
+    const Eigen::Vector3d v{rng.Gaussian(), rng.Gaussian(), rng.Gaussian()};
+    const Eigen::Vector3d a{rng.Gaussian(), rng.Gaussian(), rng.Gaussian()};
+    const Eigen::Vector3d w{rng.Gaussian(), rng.Gaussian(), rng.Gaussian()};
     auto modes_at = [&](double t) {
       const Pose T_W_C(q * ExpQuaternion(w * t), p + v * t + 0.5 * a * t * t);
       return ModesFromPose(T_W_C, v + a * t, plane, GravityW());
@@ -147,8 +144,8 @@ FlightResult FlyAndFilter(uint64_t seed, bool with_bias, bool mirror_normal) {
     m0[i] += sign * rng.Uniform(0.1, 0.2) * std::max(std::abs(m0[i]), typical[i]);
   }
   // alpha via k = tan(alpha), 10-20 % off.
-  const double k0 =
-      std::tan(alpha) * (1.0 + (rng.Uniform() < 0.5 ? -1 : 1) * rng.Uniform(0.1, 0.2));
+  const double k_sign = rng.Uniform() < 0.5 ? -1.0 : 1.0;
+  const double k0 = std::tan(alpha) * (1.0 + k_sign * rng.Uniform(0.1, 0.2));
   m0[4] = -9.81 / std::sqrt(1.0 + k0 * k0);
   LaserCovariance P0 = LaserCovariance::Zero();
   for (int i = 0; i < 4; ++i)

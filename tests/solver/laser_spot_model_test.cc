@@ -12,8 +12,7 @@ namespace mavloc {
 namespace {
 
 Eigen::Quaterniond RandomQuaternion(Rng& rng) {
-  return Eigen::Quaterniond(rng.Gaussian(), rng.Gaussian(), rng.Gaussian(), rng.Gaussian())
-      .normalized();
+  return Eigen::Quaterniond(rng.GaussianVector<4>()).normalized();
 }
 
 // The paper's global frame: plane z = k y through the origin.
@@ -29,7 +28,7 @@ TEST(LaserSpotModel, MatchesEquations2And3) {
   int checked = 0;
   for (int trial = 0; trial < 2000; ++trial) {
     const double k = rng.Uniform(-1.5, 1.5);
-    const Eigen::Vector3d r(rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(-2, 2));
+    const Eigen::Vector3d r{rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(-2, 2)};
     const Eigen::Quaterniond q = RandomQuaternion(rng);
     LaserSpot spot;
     if (ProjectLaserSpot(Pose(q, r), beam, PaperPlane(k), &spot) != LaserSpotStatus::kOk) continue;
@@ -49,8 +48,8 @@ TEST(LaserSpotModel, MatchesEquation11InAnyWorldFrame) {
   int checked = 0, positive = 0, negative = 0;
   for (int trial = 0; trial < 2000; ++trial) {
     const Plane plane{RandomQuaternion(rng) * Eigen::Vector3d::UnitZ(), rng.Uniform(-1, 1)};
-    const Pose T_W_C(RandomQuaternion(rng),
-                     Eigen::Vector3d(rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(-2, 2)));
+    const Pose T_W_C{RandomQuaternion(rng),
+                     Eigen::Vector3d{rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(-2, 2)}};
     LaserSpot spot;
     if (ProjectLaserSpot(T_W_C, beam, plane, &spot) != LaserSpotStatus::kOk) continue;
     ++checked;
@@ -95,9 +94,9 @@ TEST(LaserSpotModel, QuantitiesAreEulerAnglesRelativeToThePlane) {
   for (int trial = 0; trial < 200; ++trial) {
     const Eigen::Quaterniond q_W_P = RandomQuaternion(rng);
     const Plane plane{q_W_P * Eigen::Vector3d::UnitZ(), 0.4};
-    const Pose T_W_C(RandomQuaternion(rng),
-                     Eigen::Vector3d(rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(-2, 2)));
-    const Eigen::Vector3d v_W(rng.Gaussian(), rng.Gaussian(), rng.Gaussian());
+    const Pose T_W_C{RandomQuaternion(rng),
+                     Eigen::Vector3d{rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(-2, 2)}};
+    const Eigen::Vector3d v_W{rng.Gaussian(), rng.Gaussian(), rng.Gaussian()};
     const LaserModes modes = ModesFromPose(T_W_C, v_W, plane, GravityW());
     const LaserQuantities quantities = QuantitiesFromModes(modes.m, modes.xi_sign, 9.81);
     const EulerRpy rpy = EulerFromRotation(q_W_P.toRotationMatrix().transpose() * T_W_C.R());

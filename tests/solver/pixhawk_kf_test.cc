@@ -58,8 +58,7 @@ TEST(ConstantVelocityKf1dTest, ConsistentOnItsOwnModel) {
     for (int k = 0; k < 100; ++k) {
       const double dt = rng.Uniform(0.02, 0.06);
       const Eigen::Matrix2d L = ConstantVelocityKf1d::ProcessNoise(q, dt).llt().matrixL();
-      x = ConstantVelocityKf1d::Transition(dt) * x +
-          L * Eigen::Vector2d(rng.Gaussian(), rng.Gaussian());
+      x = ConstantVelocityKf1d::Transition(dt) * x + L * rng.GaussianVector<2>();
       filter.Predict(dt);
       filter.Update(x[0] + sigma * rng.Gaussian());
       if (k >= 20) {

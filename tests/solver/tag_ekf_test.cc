@@ -20,7 +20,7 @@ TagEkfVector RandomState(Rng& rng) {
   TagEkfVector x;
   for (int i = 0; i < 15; ++i) x[i] = rng.Uniform(-1.0, 1.0);
   x.segment<3>(kTagEkfAtt) =
-      Eigen::Vector3d(rng.Uniform(-0.6, 0.6), rng.Uniform(-0.6, 0.6), rng.Uniform(-3.0, 3.0));
+      Eigen::Vector3d{rng.Uniform(-0.6, 0.6), rng.Uniform(-0.6, 0.6), rng.Uniform(-3.0, 3.0)};
   x.segment<3>(kTagEkfAccelBias) *= 0.2;
   x.segment<3>(kTagEkfGyroBias) *= 0.05;
   return x;
@@ -36,7 +36,7 @@ Pose DownCamera() {
 TEST(Euler123, RoundTripAndRateMatrix) {
   Rng rng(11);
   for (int trial = 0; trial < 50; ++trial) {
-    const Eigen::Vector3d alpha(rng.Uniform(-3, 3), rng.Uniform(-1.4, 1.4), rng.Uniform(-3, 3));
+    const Eigen::Vector3d alpha{rng.Uniform(-3, 3), rng.Uniform(-1.4, 1.4), rng.Uniform(-3, 3)};
     const Eigen::Matrix3d R = RotationFromEuler123(alpha);
     EXPECT_LT((RotationFromEuler123(Euler123FromRotation(R)) - R).norm(), 1e-12);
     // R(alpha + d) = R(alpha) Exp(Gamma d): Gamma's columns from central differences of Log.
@@ -78,8 +78,8 @@ TEST(TagEkfJacobians, DynamicsAndNoiseMatchCentralDifferences) {
   for (int trial = 0; trial < 30; ++trial) {
     const TagEkfVector x = RandomState(rng);
     TagEkfInput u;
-    u.accel_m_s2 = Eigen::Vector3d(rng.Uniform(-3, 3), rng.Uniform(-3, 3), rng.Uniform(5, 13));
-    u.gyro_rad_s = Eigen::Vector3d(rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(-2, 2));
+    u.accel_m_s2 = Eigen::Vector3d{rng.Uniform(-3, 3), rng.Uniform(-3, 3), rng.Uniform(5, 13)};
+    u.gyro_rad_s = Eigen::Vector3d{rng.Uniform(-2, 2), rng.Uniform(-2, 2), rng.Uniform(-2, 2)};
     const Eigen::MatrixXd F_num = CentralDifferenceJacobian(
         [&](const Eigen::VectorXd& xx) -> Eigen::VectorXd {
           return TagEkfDynamics(TagEkfVector(xx), u);
@@ -108,9 +108,9 @@ TEST(TagEkfJacobians, MeasurementMatchesCentralDifferences) {
   int checked = 0;
   for (int trial = 0; trial < 40; ++trial) {
     const TagEkfVector x = RandomState(rng);
-    const Pose T_W_T(RotationFromEuler123(Eigen::Vector3d(
-                         rng.Uniform(-0.3, 0.3), rng.Uniform(-0.3, 0.3), rng.Uniform(-3, 3))),
-                     Eigen::Vector3d(rng.Uniform(-2, 2), rng.Uniform(-2, 2), 0.0));
+    const Pose T_W_T{RotationFromEuler123(Eigen::Vector3d{
+                         rng.Uniform(-0.3, 0.3), rng.Uniform(-0.3, 0.3), rng.Uniform(-3, 3)}),
+                     Eigen::Vector3d{rng.Uniform(-2, 2), rng.Uniform(-2, 2), 0.0}};
     const TagMeasurementVector h0 = TagMeasurementModel(x, T_B_C, T_W_T);
     if (std::abs(std::cos(h0[4])) < 0.05) continue;  // gamma near gimbal lock: skip
     const Eigen::MatrixXd H_num = CentralDifferenceJacobian(

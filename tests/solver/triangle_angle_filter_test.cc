@@ -47,11 +47,11 @@ TriangleAngleInput InputFor(const Scene& s) {
 }
 
 Scene RandomScene(Rng& rng) {
-  Eigen::Vector3d P3(rng.Uniform(-0.03, 0.13), rng.Uniform(0.03, 0.12), 0.0);
+  Eigen::Vector3d P3{rng.Uniform(-0.03, 0.13), rng.Uniform(0.03, 0.12), 0.0};
   if (rng.Uniform() < 0.5) P3.y() *= -1.0;
   const EulerRpy rpy{rng.Uniform(-15, 15) * kDeg, rng.Uniform(-15, 15) * kDeg,
                      rng.Uniform(-180, 180) * kDeg};
-  const Eigen::Vector3d c_W(rng.Uniform(-0.1, 0.2), rng.Uniform(-0.1, 0.2), rng.Uniform(0.2, 1.0));
+  const Eigen::Vector3d c_W{rng.Uniform(-0.1, 0.2), rng.Uniform(-0.1, 0.2), rng.Uniform(0.2, 1.0)};
   return MakeScene(P3, rpy, c_W);
 }
 
@@ -112,7 +112,7 @@ TriangleAngleInput NoisyInput(const Scene& s, double sigma, double sigma_rp, Rng
   TriangleAngleInput input = InputFor(s);
   for (auto& xy : input.xy) {
     const double scale = sigma * (1.0 + xy.squaredNorm());
-    xy += scale * Eigen::Vector2d(rng.Gaussian(), rng.Gaussian());
+    xy += scale * rng.GaussianVector<2>();
   }
   input.roll_rad += sigma_rp * rng.Gaussian();
   input.pitch_rad += sigma_rp * rng.Gaussian();
@@ -149,8 +149,8 @@ TEST(TriangleAngleFilter, ConvergesToTheTrueAnglesOverImages) {
   double first_sigma = 0.0;
   for (int k = 0; k < 200; ++k) {
     const EulerRpy rpy{rng.Uniform(-3, 3) * kDeg, rng.Uniform(-3, 3) * kDeg, 0.5};
-    const Eigen::Vector3d c_W(0.05 + rng.Uniform(-0.05, 0.05), 0.03 + rng.Uniform(-0.05, 0.05),
-                              0.3);
+    const Eigen::Vector3d c_W{0.05 + rng.Uniform(-0.05, 0.05), 0.03 + rng.Uniform(-0.05, 0.05),
+                              0.3};
     const Scene s = MakeScene(P3, rpy, c_W);
     TriangleAngleMeasurement m;
     ASSERT_TRUE(MeasureTriangleAngles(NoisyInput(s, sigma, 0.05 * kDeg, rng), &m));

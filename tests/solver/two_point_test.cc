@@ -47,7 +47,7 @@ Instance RandomInstance(Rng& rng, bool below_plane = false) {
                       rng.Uniform(-180, 180) * kDeg};
     if (below_plane) in.rpy.roll += std::numbers::pi;  // upside down: the camera looks up
     const double height = rng.Uniform(0.3, 4.0) * in.D * (below_plane ? -1.0 : 1.0);
-    const Eigen::Vector3d c_W(rng.Uniform(-1, 1) * in.D, rng.Uniform(-1, 1) * in.D, height);
+    const Eigen::Vector3d c_W{rng.Uniform(-1, 1) * in.D, rng.Uniform(-1, 1) * in.D, height};
     const Eigen::Matrix3d R_W_B = RotationFromEuler(in.rpy);
     in.T_W_B = Pose(R_W_B, Eigen::Vector3d(c_W - R_W_B * in.T_B_C.p));
     const Pose T_C_W = (in.T_W_B * in.T_B_C).Inverse();
@@ -198,7 +198,7 @@ TEST(TwoPointJacobians, LevelProjectionMatchesCentralDifferences) {
   Rng rng(17);
   for (int trial = 0; trial < 50; ++trial) {
     const Instance in = RandomInstance(rng);
-    const Eigen::Vector2d xy(rng.Uniform(-0.8, 0.8), rng.Uniform(-0.8, 0.8));
+    const Eigen::Vector2d xy{rng.Uniform(-0.8, 0.8), rng.Uniform(-0.8, 0.8)};
     const Eigen::Matrix3d R_B_C = in.T_B_C.R();
     LevelPoint p;
     ASSERT_TRUE(ProjectToLevel(in.rpy.roll, in.rpy.pitch, R_B_C, xy, &p));
@@ -222,7 +222,7 @@ TEST(TwoPointJacobians, LevelProjectionMatchesCentralDifferences) {
 TEST(TwoPointJacobians, SegmentHeadingMatchesCentralDifferences) {
   Rng rng(19);
   for (int trial = 0; trial < 50; ++trial) {
-    const Eigen::Vector4d v(rng.Gaussian(), rng.Gaussian(), rng.Gaussian(), rng.Gaussian());
+    const Eigen::Vector4d v{rng.Gaussian(), rng.Gaussian(), rng.Gaussian(), rng.Gaussian()};
     const double sign = trial % 2 == 0 ? 1.0 : -1.0;
     Eigen::Matrix<double, 1, 4> d_alpha;
     const double alpha = LevelSegmentHeading(v.head<2>(), v.tail<2>(), sign, &d_alpha);

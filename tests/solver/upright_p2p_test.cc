@@ -22,7 +22,7 @@ struct Instance {
 Eigen::Vector3d RandomUnit(Rng& rng) {
   Eigen::Vector3d d;
   do {
-    d = Eigen::Vector3d(rng.Gaussian(), rng.Gaussian(), rng.Gaussian());
+    d = rng.GaussianVector<3>();
   } while (d.norm() < 1e-3);
   return d.normalized();
 }
@@ -31,7 +31,7 @@ Eigen::Vector3d RandomUnit(Rng& rng) {
 Instance MakeInstance(Rng& rng, const std::array<Eigen::Vector3d, 2>& directions_L) {
   Instance instance;
   instance.yaw = rng.Uniform(-M_PI, M_PI);
-  instance.p_W = Eigen::Vector3d(rng.Uniform(-5, 5), rng.Uniform(-5, 5), rng.Uniform(-5, 5));
+  instance.p_W = Eigen::Vector3d{rng.Uniform(-5, 5), rng.Uniform(-5, 5), rng.Uniform(-5, 5)};
   for (int i = 0; i < 2; ++i) {
     const double depth = rng.Uniform(0.5, 10.0);
     instance.X_W[i] = instance.p_W + Rz(instance.yaw) * (depth * directions_L[i]);
@@ -91,10 +91,10 @@ TEST(UprightP2pTest, DownLookingCameraWithVerticalOnTheOpticalAxis) {
     const double spread = n < 250 ? 0.05 : 0.5;  // half-angle of the visible cone, rad
     const Eigen::Vector3d d0 =
         n % 2 == 0 ? Eigen::Vector3d(0, 0, -1)
-                   : Eigen::Vector3d(rng.Uniform(-spread, spread), rng.Uniform(-spread, spread), -1)
+                   : Eigen::Vector3d{rng.Uniform(-spread, spread), rng.Uniform(-spread, spread), -1}
                          .normalized();
     const Eigen::Vector3d d1 =
-        Eigen::Vector3d(rng.Uniform(-spread, spread), rng.Uniform(-spread, spread), -1)
+        Eigen::Vector3d{rng.Uniform(-spread, spread), rng.Uniform(-spread, spread), -1}
             .normalized();
     if (d0.cross(d1).norm() < 1e-3) continue;
     const Instance instance = MakeInstance(rng, {d0, d1});
@@ -163,8 +163,8 @@ TEST(UprightP2pTest, NearDegeneratePairsStayFiniteAndAccurate) {
     // (b) Two points 1 mm off a common vertical line.
     Instance vertical;
     vertical.yaw = rng.Uniform(-M_PI, M_PI);
-    vertical.p_W = Eigen::Vector3d(rng.Uniform(-2, 2), rng.Uniform(-2, 2), 2.0);
-    const Eigen::Vector3d base(rng.Uniform(-2, 2), rng.Uniform(-2, 2), 0.0);
+    vertical.p_W = Eigen::Vector3d{rng.Uniform(-2, 2), rng.Uniform(-2, 2), 2.0};
+    const Eigen::Vector3d base{rng.Uniform(-2, 2), rng.Uniform(-2, 2), 0.0};
     const double a = rng.Uniform(-M_PI, M_PI);
     vertical.X_W = {base, base + Eigen::Vector3d(1e-3 * std::cos(a), 1e-3 * std::sin(a), 0.7)};
     for (int i = 0; i < 2; ++i)
@@ -182,9 +182,9 @@ TEST(UprightP2pTest, NoisyBearingsGiveNearbySolutions) {
   int found = 0, tried = 0;
   for (int n = 0; n < 500; ++n) {
     const Eigen::Vector3d d0 =
-        Eigen::Vector3d(rng.Uniform(-0.5, 0.5), rng.Uniform(-0.5, 0.5), -1).normalized();
+        Eigen::Vector3d{rng.Uniform(-0.5, 0.5), rng.Uniform(-0.5, 0.5), -1}.normalized();
     const Eigen::Vector3d d1 =
-        Eigen::Vector3d(rng.Uniform(-0.5, 0.5), rng.Uniform(-0.5, 0.5), -1).normalized();
+        Eigen::Vector3d{rng.Uniform(-0.5, 0.5), rng.Uniform(-0.5, 0.5), -1}.normalized();
     if (d0.cross(d1).norm() < 0.3) continue;
     Instance instance = MakeInstance(rng, {d0, d1});
     ++tried;

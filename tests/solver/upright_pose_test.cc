@@ -27,21 +27,20 @@ Scene MakeScene(Rng& rng, double sigma_px, int max_points = 1000) {
   Scene scene;
   scene.rpy = {rng.Uniform(-0.1, 0.1), rng.Uniform(-0.1, 0.1), rng.Uniform(-M_PI, M_PI)};
   scene.T_W_B =
-      Pose(RotationFromEuler(scene.rpy),
-           Eigen::Vector3d(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(0.8, 1.6)));
+      Pose{RotationFromEuler(scene.rpy),
+           Eigen::Vector3d{rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(0.8, 1.6)}};
   const Pose T_C_W = (scene.T_W_B * kT_B_C).Inverse();
   for (int gx = -6; gx <= 6; ++gx) {
     for (int gy = -6; gy <= 6; ++gy) {
-      const Eigen::Vector3d X(0.25 * gx + rng.Uniform(-0.05, 0.05),
-                              0.25 * gy + rng.Uniform(-0.05, 0.05), 0.0);
+      const Eigen::Vector3d X{0.25 * gx + rng.Uniform(-0.05, 0.05),
+                              0.25 * gy + rng.Uniform(-0.05, 0.05), 0.0};
       const Eigen::Vector3d q = T_C_W * X;
       if (q.z() < 0.1) continue;
       const Eigen::Vector2d xy = q.head<2>() / q.z();
       if (std::abs(xy.x()) > 0.7 || std::abs(xy.y()) > 0.55) continue;
       if (static_cast<int>(scene.X_W.size()) >= max_points) continue;
       scene.X_W.push_back(X);
-      scene.xy_C.push_back(xy +
-                           Eigen::Vector2d(rng.Gaussian(), rng.Gaussian()) * sigma_px / kFocalPx);
+      scene.xy_C.push_back(xy + rng.GaussianVector<2>() * sigma_px / kFocalPx);
     }
   }
   return scene;

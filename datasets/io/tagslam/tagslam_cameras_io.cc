@@ -92,7 +92,7 @@ std::vector<TagslamCamera> ReadTagslamCameras(const std::string& cameras_path,
   if (out.empty()) throw InputError(cameras_path, 0, "", "no camera cam0..cam99 in the file");
   if (poses.IsMap()) {
     for (const auto& entry : poses) {
-      const std::string name = entry.first.as<std::string>();
+      const std::string name = YamlKey(entry.first, camera_poses_path);
       const bool known = std::any_of(out.begin(), out.end(),
                                      [&](const TagslamCamera& c) { return c.name == name; });
       if (!known)

@@ -131,7 +131,7 @@ TagslamMap ReadTagslamMap(const std::string& path) {
   }
   for (const YAML::Node& item : bodies) {
     BodyContext body;
-    body.name = item.begin()->first.as<std::string>();
+    body.name = YamlKey(item.begin()->first, path, "bodies");
     const YAML::Node node = item.begin()->second;
     if (!node.IsMap()) throw InputError(path, YamlLine(item), body.name, "body is not a map");
     body.is_static = node["is_static"] && YamlBool(node, "is_static", path);
