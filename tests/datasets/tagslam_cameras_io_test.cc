@@ -139,6 +139,14 @@ TEST(TagslamCamerasBadInput, ErrorsNameFileLineAndField) {
       kPose);
   EXPECT_NE(error.find("'resolution'"), std::string::npos) << error;
   EXPECT_NE(error.find("missing"), std::string::npos) << error;
+  // Found by fuzz_tagslam_cameras: a resolution far beyond any camera was cast to int unchecked.
+  error = ErrorOf(
+      "cam0:\n  intrinsics: [500, 500, 320, 240]\n  distortion_model: equidistant\n"
+      "  distortion_coeffs: [0, 0, 0, 0]\n  resolution: [8.3e15, 480]\n",
+      kPose);
+  EXPECT_NE(error.find("cameras.yaml:5: field 'resolution': expected two integers in [1, 100000]"),
+            std::string::npos)
+      << error;
   const std::string camera =
       "cam0:\n  intrinsics: [500, 500, 320, 240]\n  distortion_model: equidistant\n"
       "  distortion_coeffs: [0, 0, 0, 0]\n  resolution: [640, 480]\n";

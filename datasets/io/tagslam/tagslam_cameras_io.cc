@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/errors.h"
+#include "core/physical_limits.h"
 #include "datasets/io/tagslam/tagslam_yaml.h"
 #include "datasets/io/yaml_util.h"
 
@@ -22,10 +23,12 @@ std::optional<CameraModel> ReadModel(const YAML::Node& camera, const std::string
   const std::string name = YamlString(camera, "distortion_model", path);
   const std::vector<double> k = YamlDoubles(camera, "distortion_coeffs", path);
   const long line = YamlLine(camera["distortion_coeffs"]);
+  // Checked before the cast to int (fuzz_tagslam_cameras found 8.3e15 cast unchecked).
   if (resolution[0] < 1 || resolution[1] < 1 || resolution[0] != std::floor(resolution[0]) ||
-      resolution[1] != std::floor(resolution[1]))
+      resolution[1] != std::floor(resolution[1]) || resolution[0] > limits::kMaxResolution_px ||
+      resolution[1] > limits::kMaxResolution_px)
     throw InputError(path, YamlLine(camera["resolution"]), "resolution",
-                     "expected two positive integers");
+                     fmt::format("expected two integers in [1, {}]", limits::kMaxResolution_px));
   if (!(intrinsics[0] > 0.0 && intrinsics[1] > 0.0))
     throw InputError(path, YamlLine(camera["intrinsics"]), "intrinsics",
                      "focal lengths must be > 0");
