@@ -21,19 +21,12 @@
 #include "solver/smoother/smoother_initialization.h"
 #include "solver/smoother/smoother_problem.h"
 
+#include "tests/scenario_support.h"
+
 namespace mavloc {
 namespace {
 
-Dataset Simulate(const std::string& scenario, uint64_t seed, double duration_s,
-                 std::map<std::string, std::string> settings = {}) {
-  const ScenarioEntry* entry = FindScenario(scenario);
-  if (!entry) return Dataset{};
-  ScenarioOptions options;
-  options.seed = seed;
-  options.duration_s = duration_s;
-  options.settings = std::move(settings);
-  return entry->generate(options);
-}
+using testing::Simulate;
 
 // The truth at t (linear / slerp between ground-truth rows).
 SmootherKeyframe TruthKeyframe(const Dataset& dataset, TimeNs t_ns) {

@@ -24,19 +24,12 @@
 #include "solver/smoother/smoother_initialization.h"
 #include "solver/smoother/smoother_problem.h"
 
+#include "tests/scenario_support.h"
+
 namespace mavloc {
 namespace {
 
-Dataset Simulate(const std::string& scenario, uint64_t seed, double duration_s,
-                 std::map<std::string, std::string> settings = {}) {
-  const ScenarioEntry* entry = FindScenario(scenario);
-  if (!entry) return Dataset{};
-  ScenarioOptions options;
-  options.seed = seed;
-  options.duration_s = duration_s;
-  options.settings = std::move(settings);
-  return entry->generate(options);
-}
+using testing::Simulate;
 
 const GroundTruthState& NearestTruth(const Dataset& dataset, TimeNs t_ns) {
   auto it = std::lower_bound(dataset.ground_truth.begin(), dataset.ground_truth.end(), t_ns,

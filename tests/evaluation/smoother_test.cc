@@ -20,19 +20,12 @@
 #include "solver/estimators/smoother_estimator.h"
 #include "tests/test_support.h"
 
+#include "tests/scenario_support.h"
+
 namespace mavloc {
 namespace {
 
-Dataset Simulate(const std::string& scenario, uint64_t seed, double duration_s,
-                 std::map<std::string, std::string> settings) {
-  const ScenarioEntry* entry = FindScenario(scenario);
-  if (!entry) return Dataset{};
-  ScenarioOptions options;
-  options.seed = seed;
-  options.duration_s = duration_s;
-  options.settings = std::move(settings);
-  return entry->generate(options);
-}
+using testing::Simulate;
 
 // The ground-truth row at t (exact stamp, else nearest).
 const GroundTruthState& TruthAt(const Dataset& dataset, TimeNs t_ns) {
