@@ -438,6 +438,14 @@ struct ForeignTagArray {
   RosVector<int32_t> ids;
 };
 
+// An apriltag_msgs/ApriltagArrayStamped (same type, MD5 and definition) whose array length says
+// 4e9 tags but that carries none: found by fuzz_rosbag, where ros::serialization resized the vector
+// to the corrupt length (hundreds of gigabytes) before checking the message's size.
+struct LyingTagArray {
+  HeaderMsg header;
+  uint32_t apriltags_length = 4'000'000'000u;
+};
+
 }  // namespace
 }  // namespace mavloc
 
@@ -457,9 +465,34 @@ struct Definition<mavloc::ForeignTagArray> {
   static const char* value() { return "std_msgs/Header header\nint32[] ids # not Apriltag[]\n"; }
   static const char* value(const mavloc::ForeignTagArray&) { return value(); }
 };
+
+template <>
+struct MD5Sum<mavloc::LyingTagArray> {
+  static const char* value() { return mavloc::ros1::kApriltagArrayStampedMd5; }
+  static const char* value(const mavloc::LyingTagArray&) { return value(); }
+};
+template <>
+struct DataType<mavloc::LyingTagArray> {
+  static const char* value() { return "apriltag_msgs/ApriltagArrayStamped"; }
+  static const char* value(const mavloc::LyingTagArray&) { return value(); }
+};
+template <>
+struct Definition<mavloc::LyingTagArray> {
+  static const char* value() { return mavloc::ros1::ApriltagArrayStampedDefinition(); }
+  static const char* value(const mavloc::LyingTagArray&) { return value(); }
+};
 }  // namespace ros::message_traits
 
 namespace ros::serialization {
+template <>
+struct Serializer<mavloc::LyingTagArray> {
+  template <typename Stream, typename T>
+  inline static void allInOne(Stream& stream, T m) {
+    stream.next(m.header);
+    stream.next(m.apriltags_length);
+  }
+  ROS_DECLARE_ALLINONE_SERIALIZER
+};
 template <>
 struct Serializer<mavloc::ForeignTagArray> {
   template <typename Stream, typename T>
@@ -490,6 +523,24 @@ TEST(RosbagErrors, ForeignTagDefinitionIsNamed) {
     EXPECT_NE(what.find("md5 0123456789abcdef0123456789abcdef"), std::string::npos) << what;
     EXPECT_NE(what.find("line 2: bag has 'int32[] ids', mavloc expects 'Apriltag[] apriltags'"),
               std::string::npos)
+        << what;
+  }
+}
+
+TEST(RosbagErrors, CorruptArrayLengthIsRefusedBeforeAllocation) {
+  const std::string path = testing::MakeTempDir() + "/lying.bag";
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Write);
+    bag.write("/tags", ros::Time(10, 0), LyingTagArray{});
+  }
+  try {
+    ReadRosbagTags(path, "/tags", 0);
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    const std::string what = error.what();
+    EXPECT_NE(what.find(path + ": topic /tags, message 0: cannot deserialize"), std::string::npos)
+        << what;
+    EXPECT_NE(what.find("an array of 4000000000 elements in a message of"), std::string::npos)
         << what;
   }
 }

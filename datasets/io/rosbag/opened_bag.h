@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "datasets/io/rosbag/ros_messages.h"
+
 namespace mavloc::ros1 {
 
 class OpenedBag {
@@ -55,10 +57,13 @@ class OpenedBag {
 };
 
 // Deserializes `message` as M after checking its MD5 sum against M's; `what` names the expected
-// type in the error.
+// type in the error. No array of the message may hold more elements than the message has bytes
+// (MessageElementLimit, ros_messages.h): a corrupt length is a StreamOverrunException, not an
+// allocation of gigabytes.
 template <class M>
 boost::shared_ptr<M> Instantiate(const OpenedBag& bag, const std::string& topic, uint64_t index,
                                  const rosbag::MessageInstance& message) {
+  const MessageElementLimit limit(message.size());
   boost::shared_ptr<M> decoded = message.instantiate<M>();
   if (!decoded) {
     bag.Fail(topic, index,

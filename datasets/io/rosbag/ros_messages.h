@@ -10,17 +10,42 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <ros/serialization.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
 #include <tf2_msgs/TFMessage.h>
+#include <cstddef>
+#include <limits>
 #include <memory>
 #include <string>
 
 #include "core/time.h"
 
 namespace mavloc::ros1 {
+
+// ros::serialization reads an array's uint32 length and resizes the vector before it checks that
+// the message holds that many elements, so one corrupt length (4e9 tags) asks for hundreds of
+// gigabytes. Every element of a ROS1 array takes at least one byte on the wire, so while a message
+// of n bytes is deserialized (OpenedBag::ForEachMessage sets the limit) no message container can
+// hold more than n elements: RosAllocator refuses a larger allocation with the
+// StreamOverrunException that a short message gives.
+inline thread_local std::size_t message_element_limit = std::numeric_limits<std::size_t>::max();
+
+// Sets message_element_limit for one message's deserialization.
+class MessageElementLimit {
+ public:
+  explicit MessageElementLimit(std::size_t message_bytes) : previous_(message_element_limit) {
+    message_element_limit = message_bytes;
+  }
+  ~MessageElementLimit() { message_element_limit = previous_; }
+  MessageElementLimit(const MessageElementLimit&) = delete;
+  MessageElementLimit& operator=(const MessageElementLimit&) = delete;
+
+ private:
+  std::size_t previous_;
+};
 
 template <class T>
 struct RosAllocator : std::allocator<T> {
@@ -32,6 +57,15 @@ struct RosAllocator : std::allocator<T> {
   struct rebind {
     using other = RosAllocator<U>;
   };
+  T* allocate(std::size_t count) {
+    // count - 1: a string allocates room for its terminating null.
+    if (count > 0 && count - 1 > message_element_limit) {
+      throw ros::serialization::StreamOverrunException(
+          "an array of " + std::to_string(count) + " elements in a message of " +
+          std::to_string(message_element_limit) + " bytes");
+    }
+    return std::allocator<T>::allocate(count);
+  }
 };
 
 using Alloc = RosAllocator<void>;
