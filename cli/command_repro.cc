@@ -2,11 +2,13 @@
 #include <cstdio>
 
 #include "cli/commands.h"
+#include "cli/common.h"
 #include "cli/option_checks.h"
 #include "cli/output_folder.h"
 #include "core/errors.h"
 #include "evaluation/report_figures.h"
 #include "evaluation/repro/repro.h"
+#include "evaluation/sweep/sweep_runner.h"
 
 namespace mavloc::cli {
 
@@ -15,6 +17,7 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
   struct Args {
     std::string name, report;
     int runs = 0;
+    int jobs = 0;
     uint64_t seed = 1;
     std::vector<std::string> settings;
   };
@@ -28,6 +31,11 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
                    "Report folder: created, or replaced when empty or an earlier report")
       ->required();
   command->add_option("--set", args->settings, "Setting key=value (repeatable)");
+  command
+      ->add_option("--jobs", args->jobs,
+                   "Worker processes (repro smoother; default: the core count). The numbers do "
+                   "not depend on it")
+      ->check(WholeNumber(1, 1024));
   command->callback([args, exit_code] {
     const ReproEntry* entry = FindRepro(args->name);
     if (!entry) {
@@ -39,6 +47,15 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
     if (args->runs > 0) options.runs = args->runs;
     options.seed = args->seed;
     options.settings = ParseKeyValues(args->settings, "--set");
+    // Reproductions with a unit function run on the sweep machinery (issue 16); the others run
+    // in this process.
+    if (entry->unit) {
+      options.jobs = args->jobs > 0 ? args->jobs : AvailableCores();
+      options.worker_argv = {SelfPath(), "sweep-worker", "--grid", "{grid}"};
+    } else if (args->jobs > 1) {
+      throw InputError("--jobs " + std::to_string(args->jobs) + ": repro " + args->name +
+                       " runs in one process (--jobs applies to repro smoother)");
+    }
     // Written whole into a fresh folder, then renamed into place (cli/output_folder.h).
     StagedFolder report(args->report, FolderKind::kReport);
     options.report_dir = report.path();

@@ -16,6 +16,7 @@
 #include <stdexcept>
 
 #include "cli/commands.h"
+#include "cli/common.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/key_values.h"
@@ -44,8 +45,6 @@ SweepGrid ReadGridFile(const std::string& path) {
   }
   return SweepGridFromJson(json, path);
 }
-
-std::string SelfPath() { return fs::read_symlink("/proc/self/exe").string(); }
 
 SweepRunOptions RunOptions(int jobs) {
   SweepRunOptions options;

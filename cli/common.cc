@@ -1,5 +1,6 @@
 #include "cli/common.h"
 
+#include <filesystem>
 #include <sstream>
 
 #include "cli/commands.h"
@@ -7,6 +8,8 @@
 #include "core/progress.h"
 
 namespace mavloc::cli {
+
+std::string SelfPath() { return std::filesystem::read_symlink("/proc/self/exe").string(); }
 
 std::map<std::string, std::string> ParseKeyValues(const std::vector<std::string>& items,
                                                   const std::string& flag) {

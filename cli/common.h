@@ -12,6 +12,9 @@
 
 namespace mavloc::cli {
 
+// The running mavloc executable (/proc/self/exe), for the sweep workers it starts.
+std::string SelfPath();
+
 // Simulates a registered scenario in memory; throws InputError for an unknown name.
 Dataset SimulateScenario(const std::string& name, const ScenarioOptions& options);
 

@@ -7,6 +7,7 @@
 
 #include "core/rotation.h"
 #include "evaluation/association.h"
+#include "evaluation/json_number.h"
 #include "solver/smoother/smoother_initialization.h"
 
 namespace mavloc {
@@ -76,6 +77,40 @@ double ChiSquareQuantileWh(double k, double p) {
   const double h = 2.0 / (9.0 * k);
   const double t = 1.0 - h + z * std::sqrt(h);
   return k * t * t * t;
+}
+
+void MergeNees(const NeesAccumulator& other, NeesAccumulator* nees) {
+  for (const auto& [to, from] :
+       {std::pair{&nees->position, &other.position}, std::pair{&nees->attitude, &other.attitude}}) {
+    for (const auto& [t, cell] : *from) {
+      auto& sum = (*to)[t];
+      sum.first += cell.first;
+      sum.second += cell.second;
+    }
+  }
+  nees->runs += other.runs;
+}
+
+nlohmann::json NeesToJson(const NeesAccumulator& nees) {
+  nlohmann::json j = {{"runs", nees.runs}};
+  for (const auto& [name, series] :
+       {std::pair{"position", &nees.position}, std::pair{"attitude", &nees.attitude}}) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const auto& [t, cell] : *series) rows.push_back({t, JsonNumber(cell.first), cell.second});
+    j[name] = rows;
+  }
+  return j;
+}
+
+NeesAccumulator NeesFromJson(const nlohmann::json& j) {
+  NeesAccumulator nees;
+  nees.runs = j.at("runs").get<int>();
+  for (const auto& [name, series] :
+       {std::pair{"position", &nees.position}, std::pair{"attitude", &nees.attitude}}) {
+    for (const auto& row : j.at(name))
+      (*series)[row.at(0).get<TimeNs>()] = {NumberFromJson(row.at(1)), row.at(2).get<int>()};
+  }
+  return nees;
 }
 
 bool AccumulateNees(const Dataset& dataset, const Estimate& estimate, NeesAccumulator* nees) {

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,13 @@ struct NeesAccumulator {
 // 8 ms apart, else the nearest row within 2 ms), and whose covariance names x y z (position) or
 // roll pitch yaw (attitude). Returns false when the estimate has no such covariance.
 bool AccumulateNees(const Dataset& dataset, const Estimate& estimate, NeesAccumulator* nees);
+
+// Adds the sums of `other` (runs computed elsewhere, e.g. in a sweep worker) to `nees`.
+void MergeNees(const NeesAccumulator& other, NeesAccumulator* nees);
+// Every field as JSON and back, exactly ({"runs": n, "position": [[t_ns, sum, count], ...],
+// "attitude": [...]}); throws nlohmann's exceptions for a malformed object.
+nlohmann::json NeesToJson(const NeesAccumulator& nees);
+NeesAccumulator NeesFromJson(const nlohmann::json& json);
 
 struct AneesSummary {
   bool available = false;

@@ -5,13 +5,63 @@
 #include <limits>
 
 #include "core/rotation.h"
+#include "evaluation/json_number.h"
 
 namespace mavloc {
 
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 double Ratio(double a, double b) { return b > 0.0 ? std::sqrt(a / b) : kNaN; }
+
+nlohmann::json Numbers(const std::vector<double>& values) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const double v : values) list.push_back(JsonNumber(v));
+  return list;
+}
+std::vector<double> NumbersFrom(const nlohmann::json& json) {
+  std::vector<double> values;
+  for (const auto& v : json) values.push_back(NumberFromJson(v));
+  return values;
+}
 }  // namespace
+
+nlohmann::json EfficiencySumsToJson(const EfficiencySums& e) {
+  nlohmann::json per_time = nlohmann::json::array();
+  for (const auto& [t, v] : e.per_time)
+    per_time.push_back({t, JsonNumber(v[0]), JsonNumber(v[1]), JsonNumber(v[2]), JsonNumber(v[3]),
+                        JsonNumber(v[4])});
+  return {{"position_error2", JsonNumber(e.position_error2)},
+          {"position_bound2", JsonNumber(e.position_bound2)},
+          {"attitude_error2", JsonNumber(e.attitude_error2)},
+          {"attitude_bound2", JsonNumber(e.attitude_bound2)},
+          {"frames", e.frames},
+          {"runs", e.runs},
+          {"run_position_error2", Numbers(e.run_position_error2)},
+          {"run_position_bound2", Numbers(e.run_position_bound2)},
+          {"run_attitude_error2", Numbers(e.run_attitude_error2)},
+          {"run_attitude_bound2", Numbers(e.run_attitude_bound2)},
+          {"per_time", per_time}};
+}
+
+EfficiencySums EfficiencySumsFromJson(const nlohmann::json& j) {
+  EfficiencySums e;
+  e.position_error2 = NumberFromJson(j.at("position_error2"));
+  e.position_bound2 = NumberFromJson(j.at("position_bound2"));
+  e.attitude_error2 = NumberFromJson(j.at("attitude_error2"));
+  e.attitude_bound2 = NumberFromJson(j.at("attitude_bound2"));
+  e.frames = j.at("frames").get<int>();
+  e.runs = j.at("runs").get<int>();
+  e.run_position_error2 = NumbersFrom(j.at("run_position_error2"));
+  e.run_position_bound2 = NumbersFrom(j.at("run_position_bound2"));
+  e.run_attitude_error2 = NumbersFrom(j.at("run_attitude_error2"));
+  e.run_attitude_bound2 = NumbersFrom(j.at("run_attitude_bound2"));
+  for (const auto& row : j.at("per_time")) {
+    std::array<double, 5> v;
+    for (int i = 0; i < 5; ++i) v[i] = NumberFromJson(row.at(i + 1));
+    e.per_time[row.at(0).get<TimeNs>()] = v;
+  }
+  return e;
+}
 
 void EfficiencySums::Add(const EfficiencySums& o) {
   position_error2 += o.position_error2;

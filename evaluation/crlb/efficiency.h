@@ -7,6 +7,7 @@
 
 #include <array>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 #include "core/pose.h"
@@ -36,6 +37,13 @@ struct EfficiencySums {
   // trace C_thetatheta, and the number of runs (for error-RMS-over-time against the bound).
   std::map<TimeNs, std::array<double, 5>> per_time;
 };
+
+// Every field as JSON and back, exactly (doubles keep all their digits; a non-finite value is
+// written as null and read back as NaN): a run computed in a sweep worker (`repro smoother
+// --jobs`) adds up to the same sums as one computed in the process. Throws nlohmann's exceptions
+// for a malformed object.
+nlohmann::json EfficiencySumsToJson(const EfficiencySums& sums);
+EfficiencySums EfficiencySumsFromJson(const nlohmann::json& json);
 
 enum class BoundKind { kSmoothing, kFiltering };
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +19,10 @@ struct ReproOptions {
   uint64_t seed = 1;        // first seed; run k uses seed + k
   std::string report_dir;
   std::map<std::string, std::string> settings;  // `--set key=value`
+  // Runs in `jobs` worker processes on the sweep machinery (evaluation/sweep/sweep_runner.h) when
+  // the reproduction has a unit function and jobs > 1; worker_argv as SweepRunOptions'.
+  int jobs = 1;
+  std::vector<std::string> worker_argv;
 };
 
 struct ReproEntry {
@@ -26,6 +31,13 @@ struct ReproEntry {
   // Runs the reproduction and writes the report; returns a process exit code. Throws InputError
   // for bad options.
   std::function<int(const ReproOptions&)> run;
+  // One Monte-Carlo run (scenario, seed) with the `--set` settings as JSON, for the sweep
+  // machinery (`repro NAME --jobs N`, sweep workers); empty for reproductions that run in one
+  // process only. The reproduction's report is made from these JSON results whatever the number
+  // of jobs, so that --jobs 1 and --jobs N give the same numbers.
+  std::function<nlohmann::json(const std::map<std::string, std::string>& settings,
+                               const std::string& scenario, uint64_t seed)>
+      unit;
 };
 
 const std::vector<ReproEntry>& ReproRegistry();  // evaluation/repro/repro_registry.cc

@@ -15,19 +15,19 @@ namespace mavloc {
 const std::vector<ReproEntry>& ReproRegistry() {
   static const std::vector<ReproEntry> kEntries = {
       {"three-point", "three-point paper Table I (2p vs 3p) and a noise x height sweep",
-       RunThreePointRepro},
+       RunThreePointRepro, nullptr},
       {"pixhawk", "PIXHAWK fig. 15 (pnp vs upright-2p), sweep, 4 x 1-D KF, time stamps",
-       RunPixhawkRepro},
+       RunPixhawkRepro, nullptr},
       {"laser", "laser-spot paper 5.1 (laser-plane, with/without bias) and 5.2 (euroc-laser)",
-       RunLaserRepro},
+       RunLaserRepro, nullptr},
       {"apriltag", "AprilTag paper V: render -> detect -> EKF; hover Monte-Carlo, dynamic, NEES",
-       RunAprilTagRepro},
+       RunAprilTagRepro, nullptr},
       {"smoother", "issue 7: smoother vs its seed and the papers' filter, every visual scenario",
-       RunSmootherRepro},
+       RunSmootherRepro, RunSmootherReproUnit},
       {"euroc-imu-april",
        "issue 12: smoother calibration (T_B_C, t_d, gravity) and the papers' tag estimators on "
        "EuRoC's real imu_april log, against EuRoC's official calibration",
-       RunEurocImuAprilRepro},
+       RunEurocImuAprilRepro, nullptr},
   };
   return kEntries;
 }

@@ -25,7 +25,10 @@
 #include "evaluation/crlb/consistency.h"
 #include "evaluation/crlb/efficiency.h"
 #include "evaluation/crlb/smoother_bound.h"
+#include "evaluation/json_number.h"
 #include "evaluation/report_writer.h"
+#include "evaluation/sweep/sweep_grid.h"
+#include "evaluation/sweep/sweep_runner.h"
 #include "solver/smoother/smoother_initialization.h"
 
 namespace mavloc {
@@ -544,84 +547,208 @@ std::vector<std::string> Verdicts(const ScenarioResult& s) {
 
 // ---------------------------------------------------------------------------------------------
 
-ScenarioResult RunScenario(const Plan& plan, const ReproOptions& options, int runs,
-                           const std::optional<double>& duration_s, const std::string& euroc_data) {
+// ---------------------------------------------------------------------------------------------
+// One run as JSON and back (the sweep machinery's unit, issue 16).
+
+nlohmann::json NumberMap(const std::map<std::string, double>& values) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [key, value] : values) j[key] = JsonNumber(value);
+  return j;
+}
+std::map<std::string, double> NumberMapFrom(const nlohmann::json& j) {
+  std::map<std::string, double> values;
+  for (const auto& [key, value] : j.items()) values[key] = NumberFromJson(value);
+  return values;
+}
+
+nlohmann::json MetricsToJson(const RunMetrics& m) {
+  return {{"ran", m.ran},
+          {"skipped_reason", m.skipped_reason},
+          {"position_rmse_m", JsonNumber(m.position_rmse_m)},
+          {"attitude_rmse_rad", JsonNumber(m.attitude_rmse_rad)},
+          {"poses_evaluated", m.poses_evaluated},
+          {"quantity_rmse", NumberMap(m.quantity_rmse)},
+          {"early_rmse", NumberMap(m.early_rmse)},
+          {"late_mae", NumberMap(m.late_mae)},
+          {"seeded_position_rmse_m", JsonNumber(m.seeded_position_rmse_m)},
+          {"bridged_position_rmse_m", JsonNumber(m.bridged_position_rmse_m)},
+          {"bridged_frames", m.bridged_frames},
+          {"failures", m.failures},
+          {"failure_reasons", m.failure_reasons},
+          {"runtime_s", JsonNumber(m.runtime_s)},
+          {"evaluation", m.json},
+          {"smoothing_efficiency", EfficiencySumsToJson(m.smoothing_efficiency)},
+          {"filtering_efficiency", EfficiencySumsToJson(m.filtering_efficiency)}};
+}
+
+RunMetrics MetricsFromJson(const nlohmann::json& j) {
+  RunMetrics m;
+  m.ran = j.at("ran").get<bool>();
+  m.skipped_reason = j.at("skipped_reason").get<std::string>();
+  m.position_rmse_m = NumberFromJson(j.at("position_rmse_m"));
+  m.attitude_rmse_rad = NumberFromJson(j.at("attitude_rmse_rad"));
+  m.poses_evaluated = j.at("poses_evaluated").get<int>();
+  m.quantity_rmse = NumberMapFrom(j.at("quantity_rmse"));
+  m.early_rmse = NumberMapFrom(j.at("early_rmse"));
+  m.late_mae = NumberMapFrom(j.at("late_mae"));
+  m.seeded_position_rmse_m = NumberFromJson(j.at("seeded_position_rmse_m"));
+  m.bridged_position_rmse_m = NumberFromJson(j.at("bridged_position_rmse_m"));
+  m.bridged_frames = j.at("bridged_frames").get<int>();
+  m.failures = j.at("failures").get<int>();
+  m.failure_reasons = j.at("failure_reasons").get<std::map<std::string, int>>();
+  m.runtime_s = NumberFromJson(j.at("runtime_s"));
+  m.json = j.at("evaluation");
+  m.smoothing_efficiency = EfficiencySumsFromJson(j.at("smoothing_efficiency"));
+  m.filtering_efficiency = EfficiencySumsFromJson(j.at("filtering_efficiency"));
+  return m;
+}
+
+// One run of a plan: the dataset of `seed`, its Cramér–Rao bound and every row evaluated on it.
+// {"scenario", "seed", "duration_s", "bound": {"ok", "compute_s", "reason"},
+//  "rows": [{"metrics": RunMetrics, "nees": this run's NEES sums}, ...] (plan order)}.
+nlohmann::json RunUnit(const Plan& plan, uint64_t seed, const std::optional<double>& duration_s,
+                       const std::string& euroc_data) {
+  const EvaluationOptions evaluation_options;  // align none, 20 ms association
+  ScenarioOptions scenario_options;
+  scenario_options.seed = seed;
+  scenario_options.duration_s = duration_s;
+  scenario_options.settings = plan.scenario_settings;
+  if (plan.scenario == "euroc-laser" && !euroc_data.empty())
+    scenario_options.settings["data"] = euroc_data;
+  const Dataset dataset = FindScenario(plan.scenario)->generate(scenario_options);
+  nlohmann::json unit = {{"scenario", plan.scenario}, {"seed", seed}};
+  unit["duration_s"] = JsonNumber(
+      dataset.ground_truth.empty()
+          ? kNaN
+          : NsToSeconds(dataset.ground_truth.back().t_ns - dataset.ground_truth.front().t_ns));
+  // The Cramér–Rao bound of this dataset for the smoother's problem (issue 15).
+  const SmootherCrlb bound = ComputeSmootherCrlb(dataset, EstimatorOptions(plan.rows[0].options));
+  unit["bound"] = {
+      {"ok", bound.ok}, {"compute_s", JsonNumber(bound.compute_s)}, {"reason", bound.reason}};
+  std::vector<RunMetrics> metrics;
+  std::vector<NeesAccumulator> nees(plan.rows.size());
+  std::vector<EstimatorEvaluation> evaluations;
+  for (size_t i = 0; i < plan.rows.size(); ++i) {
+    const Row& row = plan.rows[i];
+    EstimatorOptions estimator_options(row.options);
+    if (plan.laser) {  // the EKF's initial error is drawn per run; the smoother's seed matches
+      if (row.estimator == "laser-ekf")
+        estimator_options.Set("init_seed", std::to_string(seed));
+      else
+        estimator_options.Set("seed.init_seed", std::to_string(seed));
+    }
+    EstimatorEvaluation evaluation =
+        row.estimator == kLandmarkPnp
+            ? RunLandmarkPnp(dataset, evaluation_options)
+            : RunAndEvaluate(row.estimator, estimator_options, dataset, evaluation_options);
+    metrics.push_back(Summarize(evaluation));
+    if (evaluation.ran) AccumulateNees(dataset, evaluation.estimate, &nees[i]);
+    if (bound.ok && evaluation.ran) {
+      const std::vector<StampedPose> poses = SeedPoses(evaluation.estimate);
+      metrics.back().smoothing_efficiency = CompareWithBound(bound, poses, BoundKind::kSmoothing);
+      metrics.back().filtering_efficiency = CompareWithBound(bound, poses, BoundKind::kFiltering);
+    }
+    evaluations.push_back(std::move(evaluation));
+  }
+  for (size_t i = 1; i < plan.rows.size(); ++i) {
+    if (plan.rows[i].role != Role::kSeed || plan.laser) continue;
+    if (evaluations[0].ran && evaluations[i].ran)
+      SplitBySeed(dataset, evaluations[0].estimate, evaluations[i].estimate, &metrics[0]);
+    break;
+  }
+  unit["rows"] = nlohmann::json::array();
+  for (size_t i = 0; i < plan.rows.size(); ++i)
+    unit["rows"].push_back({{"metrics", MetricsToJson(metrics[i])}, {"nees", NeesToJson(nees[i])}});
+  return unit;
+}
+
+// Adds run k (a RunUnit result) to the scenario's table: metrics, NEES, bound and the smoother's
+// wins over every competitor.
+void AddRun(const nlohmann::json& unit, int k, ScenarioResult* result) {
+  if (k == 0) result->duration_s = NumberFromJson(unit.at("duration_s"));
+  const nlohmann::json& bound = unit.at("bound");
+  if (bound.at("ok").get<bool>()) {
+    ++result->bound_runs;
+    result->bound_compute_s += NumberFromJson(bound.at("compute_s"));
+  } else {
+    result->bound_unavailable = bound.at("reason").get<std::string>();
+  }
+  const nlohmann::json& rows = unit.at("rows");
+  if (rows.size() != result->rows.size())
+    throw std::runtime_error("repro smoother: a run's rows do not match its plan");
+  for (size_t i = 0; i < rows.size(); ++i) {
+    result->rows[i].runs.push_back(MetricsFromJson(rows[i].at("metrics")));
+    MergeNees(NeesFromJson(rows[i].at("nees")), &result->rows[i].nees);
+  }
+  const RunMetrics& smoother = result->rows.front().runs.back();
+  for (size_t i = 1; i < result->rows.size(); ++i) {
+    const RowResult& other = result->rows[i];
+    if (other.row.role == Role::kVariant) continue;
+    WinCount& count = result->wins[other.row.label];
+    if (!smoother.ran || !other.runs.back().ran) continue;
+    const Wins w = Judge(smoother, other.runs.back(), other.row.criterion);
+    ++count.judged;
+    count.first += w.first ? 1 : 0;
+    count.second += w.second ? 1 : 0;
+    count.all += w.all ? 1 : 0;
+    for (const auto& name : w.lost) {
+      ++count.lost[name];
+      count.lost_runs[name].push_back(k);
+    }
+  }
+}
+
+// The table of a plan from its runs' JSON (in seed order).
+ScenarioResult MakeScenarioResult(const Plan& plan, const std::vector<nlohmann::json>& units) {
   ScenarioResult result;
   result.plan = plan;
   for (const auto& row : plan.rows) result.rows.push_back({row, {}, {}});
-  const EvaluationOptions evaluation_options;  // align none, 20 ms association
-  for (int k = 0; k < runs; ++k) {
-    const uint64_t seed = options.seed + static_cast<uint64_t>(k);
-    ReportProgress(kStage, fmt::format("{} run {}/{} (seed {})", plan.scenario, k + 1, runs, seed));
-    ScenarioOptions scenario_options;
-    scenario_options.seed = seed;
-    scenario_options.duration_s = duration_s;
-    scenario_options.settings = plan.scenario_settings;
-    if (plan.scenario == "euroc-laser" && !euroc_data.empty())
-      scenario_options.settings["data"] = euroc_data;
-    const Dataset dataset = FindScenario(plan.scenario)->generate(scenario_options);
-    if (k == 0 && !dataset.ground_truth.empty())
-      result.duration_s =
-          NsToSeconds(dataset.ground_truth.back().t_ns - dataset.ground_truth.front().t_ns);
-    // The Cramér–Rao bound of this dataset for the smoother's problem (issue 15).
-    const SmootherCrlb bound = ComputeSmootherCrlb(dataset, EstimatorOptions(plan.rows[0].options));
-    if (bound.ok) {
-      ++result.bound_runs;
-      result.bound_compute_s += bound.compute_s;
-    } else {
-      result.bound_unavailable = bound.reason;
-    }
-    std::vector<EstimatorEvaluation> evaluations;
-    for (auto& row_result : result.rows) {
-      const Row& row = row_result.row;
-      EstimatorOptions estimator_options(row.options);
-      if (plan.laser) {  // the EKF's initial error is drawn per run; the smoother's seed matches
-        if (row.estimator == "laser-ekf")
-          estimator_options.Set("init_seed", std::to_string(seed));
-        else
-          estimator_options.Set("seed.init_seed", std::to_string(seed));
-      }
-      EstimatorEvaluation evaluation =
-          row.estimator == kLandmarkPnp
-              ? RunLandmarkPnp(dataset, evaluation_options)
-              : RunAndEvaluate(row.estimator, estimator_options, dataset, evaluation_options);
-      row_result.runs.push_back(Summarize(evaluation));
-      if (evaluation.ran) AccumulateNees(dataset, evaluation.estimate, &row_result.nees);
-      if (bound.ok && evaluation.ran) {
-        const std::vector<StampedPose> poses = SeedPoses(evaluation.estimate);
-        row_result.runs.back().smoothing_efficiency =
-            CompareWithBound(bound, poses, BoundKind::kSmoothing);
-        row_result.runs.back().filtering_efficiency =
-            CompareWithBound(bound, poses, BoundKind::kFiltering);
-      }
-      evaluations.push_back(std::move(evaluation));
-    }
-    for (size_t i = 1; i < result.rows.size(); ++i) {
-      if (result.rows[i].row.role != Role::kSeed || plan.laser) continue;
-      if (evaluations[0].ran && evaluations[i].ran)
-        SplitBySeed(dataset, evaluations[0].estimate, evaluations[i].estimate,
-                    &result.rows[0].runs.back());
-      break;
-    }
-    const RunMetrics& smoother = result.rows.front().runs.back();
-    for (size_t i = 1; i < result.rows.size(); ++i) {
-      const RowResult& other = result.rows[i];
-      if (other.row.role == Role::kVariant) continue;
-      WinCount& count = result.wins[other.row.label];
-      if (!smoother.ran || !other.runs.back().ran) continue;
-      const Wins w = Judge(smoother, other.runs.back(), other.row.criterion);
-      ++count.judged;
-      count.first += w.first ? 1 : 0;
-      count.second += w.second ? 1 : 0;
-      count.all += w.all ? 1 : 0;
-      for (const auto& name : w.lost) {
-        ++count.lost[name];
-        count.lost_runs[name].push_back(k);
-      }
-    }
-  }
+  for (size_t k = 0; k < units.size(); ++k) AddRun(units[k], static_cast<int>(k), &result);
   if (result.bound_runs > 0) result.bound_compute_s /= result.bound_runs;
   return result;
+}
+
+// Settings of `repro smoother` (see the header), parsed in the report's process and in every unit.
+struct Settings {
+  std::map<std::string, std::string> raw;
+  std::map<std::string, std::string> smoother_options;
+  std::string euroc_data;
+
+  // duration_s.SCENARIO, else duration_s, else the scenario's default.
+  std::optional<double> DurationFor(const std::string& scenario) const {
+    for (const std::string& key : {"duration_s." + scenario, std::string("duration_s")}) {
+      if (!raw.count(key)) continue;
+      const double value = GetDoubleSetting(raw, key, 0.0);
+      if (!(value > 0.0)) throw InputError("repro smoother: " + key + " must be > 0");
+      return value;
+    }
+    return std::nullopt;
+  }
+};
+
+Settings ParseSettings(const std::map<std::string, std::string>& raw) {
+  Settings settings;
+  settings.raw = raw;
+  for (const auto& [key, value] : raw) {
+    if (key.rfind("smoother.", 0) == 0) {
+      settings.smoother_options[key.substr(9)] = value;
+      continue;
+    }
+    if (key != "scenarios" && key != "duration_s" && key != "euroc_data" &&
+        key.rfind("duration_s.", 0) != 0)
+      throw InputError(
+          fmt::format("repro smoother: unknown setting '{}' (known: scenarios, duration_s, "
+                      "duration_s.SCENARIO, euroc_data, smoother.KEY)",
+                      key));
+  }
+  // The smoother's marginal pose covariances for the consistency (ANEES) table of issue 15;
+  // `--set smoother.covariance=0` leaves them out (and their time out of the runtime column).
+  if (!settings.smoother_options.count("covariance")) settings.smoother_options["covariance"] = "1";
+  // One Ceres thread per run (the runs are the parallelism, `--jobs`): the same numbers whatever
+  // the number of jobs.
+  if (!settings.smoother_options.count("threads")) settings.smoother_options["threads"] = "1";
+  settings.euroc_data = GetStringSetting(raw, "euroc_data", "");
+  return settings;
 }
 
 // The bound that fits an estimator: smoothing for the batch smoother (it uses the whole run),
@@ -935,36 +1062,20 @@ nlohmann::json ScenarioJson(const ScenarioResult& s) {
 
 }  // namespace
 
+nlohmann::json RunSmootherReproUnit(const std::map<std::string, std::string>& raw,
+                                    const std::string& scenario, uint64_t seed) {
+  const Settings settings = ParseSettings(raw);
+  const Plan plan = MakePlan(scenario, settings.smoother_options);
+  if (!FindScenario(scenario)) throw InputError("repro smoother: no scenario '" + scenario + "'");
+  return RunUnit(plan, seed, settings.DurationFor(scenario), settings.euroc_data);
+}
+
 int RunSmootherRepro(const ReproOptions& options) {
-  std::map<std::string, std::string> smoother_options;
-  for (const auto& [key, value] : options.settings) {
-    if (key.rfind("smoother.", 0) == 0) {
-      smoother_options[key.substr(9)] = value;
-      continue;
-    }
-    if (key != "scenarios" && key != "duration_s" && key != "euroc_data" &&
-        key.rfind("duration_s.", 0) != 0)
-      throw InputError(
-          fmt::format("repro smoother: unknown setting '{}' (known: scenarios, duration_s, "
-                      "duration_s.SCENARIO, euroc_data, smoother.KEY)",
-                      key));
-  }
-  // The smoother's marginal pose covariances for the consistency (ANEES) table of issue 15;
-  // `--set smoother.covariance=0` leaves them out (and their time out of the runtime column).
-  if (!smoother_options.count("covariance")) smoother_options["covariance"] = "1";
+  const Settings settings = ParseSettings(options.settings);
   const int runs = options.runs.value_or(kDefaultRuns);
   if (runs < 1) throw InputError("repro smoother: --runs must be >= 1");
-  // duration_s.SCENARIO, else duration_s, else the scenario's default.
-  const auto duration_for = [&](const std::string& scenario) -> std::optional<double> {
-    for (const std::string& key : {"duration_s." + scenario, std::string("duration_s")}) {
-      if (!options.settings.count(key)) continue;
-      const double value = GetDoubleSetting(options.settings, key, 0.0);
-      if (!(value > 0.0)) throw InputError("repro smoother: " + key + " must be > 0");
-      return value;
-    }
-    return std::nullopt;
-  };
-  const std::string euroc_data = GetStringSetting(options.settings, "euroc_data", "");
+  if (options.jobs < 1) throw InputError("repro smoother: --jobs must be >= 1");
+  const std::string& euroc_data = settings.euroc_data;
   const bool explicit_list = options.settings.count("scenarios") > 0;
   const std::vector<std::string> scenarios =
       explicit_list ? SplitList(options.settings.at("scenarios")) : kAllScenarios;
@@ -973,7 +1084,7 @@ int RunSmootherRepro(const ReproOptions& options) {
   std::vector<Plan> plans;
   std::map<std::string, std::string> skipped;
   for (const auto& name : scenarios) {
-    Plan plan = MakePlan(name, smoother_options);  // throws for an unknown name
+    Plan plan = MakePlan(name, settings.smoother_options);  // throws for an unknown name
     if (!FindScenario(name)) {
       skipped[name] = "scenario not in this build";
       continue;
@@ -985,13 +1096,43 @@ int RunSmootherRepro(const ReproOptions& options) {
       skipped[name] = "shared EuRoC V1_01_easy data not found (set euroc_data=PATH)";
       continue;
     }
+    settings.DurationFor(name);  // a bad duration fails before any run
     plans.push_back(std::move(plan));
   }
 
+  // Every (scenario, seed) is a unit of the sweep machinery: unit index = plan * runs + k. Each
+  // result goes through its JSON text, in this process or in a worker, so --jobs changes nothing
+  // but the time.
   const auto start = std::chrono::steady_clock::now();
+  std::vector<nlohmann::json> units;
+  if (options.jobs > 1 && !plans.empty()) {
+    SweepGrid grid;
+    for (const auto& plan : plans) grid.scenarios.push_back(plan.scenario);
+    for (int k = 0; k < runs; ++k) grid.seeds.push_back(options.seed + static_cast<uint64_t>(k));
+    grid.repro = "smoother";
+    grid.repro_settings = options.settings;
+    SweepRunOptions run_options;
+    run_options.jobs = options.jobs;
+    run_options.worker_argv = options.worker_argv;
+    std::vector<size_t> indices(plans.size() * static_cast<size_t>(runs));
+    for (size_t i = 0; i < indices.size(); ++i) indices[i] = i;
+    units = RunSweepUnits(grid, indices, run_options);
+  } else {
+    for (const auto& plan : plans) {
+      for (int k = 0; k < runs; ++k) {
+        const uint64_t seed = options.seed + static_cast<uint64_t>(k);
+        ReportProgress(kStage,
+                       fmt::format("{} run {}/{} (seed {})", plan.scenario, k + 1, runs, seed));
+        units.push_back(nlohmann::json::parse(
+            RunUnit(plan, seed, settings.DurationFor(plan.scenario), euroc_data).dump()));
+      }
+    }
+  }
   std::vector<ScenarioResult> results;
-  for (const auto& plan : plans)
-    results.push_back(RunScenario(plan, options, runs, duration_for(plan.scenario), euroc_data));
+  for (size_t p = 0; p < plans.size(); ++p)
+    results.push_back(MakeScenarioResult(
+        plans[p], std::vector<nlohmann::json>(units.begin() + static_cast<long>(p * runs),
+                                              units.begin() + static_cast<long>((p + 1) * runs))));
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -1008,6 +1149,7 @@ int RunSmootherRepro(const ReproOptions& options) {
       "poses, associated within 20 ms; quantity RMSE from the quantity errors; means over runs";
   json["skipped_scenarios"] = skipped;
   json["elapsed_s"] = elapsed_s;
+  json["jobs"] = options.jobs;
   json["tables"] = nlohmann::json::object();
 
   std::string md = fmt::format(
@@ -1032,7 +1174,8 @@ int RunSmootherRepro(const ReproOptions& options) {
     const std::string anees = AneesCsv(result);
     if (!anees.empty()) extra["anees_" + result.plan.scenario + ".csv"] = anees;
   }
-  md += fmt::format("Total run time {} s.\n", FormatNumber(elapsed_s, 1));
+  md += fmt::format("Total run time {} s ({} job{}).\n", FormatNumber(elapsed_s, 1), options.jobs,
+                    options.jobs == 1 ? "" : "s");
 
   ReportFiles files;
   files.markdown = md;

@@ -12,6 +12,7 @@
 #include "core/key_values.h"
 #include "datasets/scenarios/scenario.h"
 #include "evaluation/alignment.h"
+#include "evaluation/repro/repro.h"
 #include "solver/estimator.h"
 
 namespace mavloc {
@@ -122,6 +123,12 @@ std::pair<std::string, std::vector<std::string>> ParseSettingAxis(const std::str
 void ValidateSweepGrid(const SweepGrid& grid) {
   if (grid.scenarios.empty()) throw InputError("sweep: no scenario (--scenario a,b)");
   if (grid.seeds.empty()) throw InputError("sweep: no seeds (--seeds 1..20)");
+  if (!grid.repro.empty()) {  // the reproduction checks its own settings and scenarios
+    const ReproEntry* entry = FindRepro(grid.repro);
+    if (!entry || !entry->unit)
+      throw InputError("sweep: '" + grid.repro + "' is not a reproduction that runs as units");
+    return;
+  }
   if (grid.estimators.empty()) throw InputError("sweep: no estimator (--estimators a,b)");
   auto reject_duplicates = [](const auto& items, const std::string& what) {
     std::set<typename std::decay_t<decltype(items)>::value_type> seen;
@@ -226,6 +233,10 @@ nlohmann::json SweepGridToJson(const SweepGrid& grid) {
   j["duration_s"] = grid.duration_s ? nlohmann::json(*grid.duration_s) : nlohmann::json(nullptr);
   j["align"] = grid.align;
   j["max_dt_s"] = grid.max_dt_s;
+  if (!grid.repro.empty()) {
+    j["repro"] = grid.repro;
+    j["repro_settings"] = grid.repro_settings;
+  }
   return j;
 }
 
@@ -240,6 +251,10 @@ SweepGrid SweepGridFromJson(const nlohmann::json& j, const std::string& source) 
     if (!j.at("duration_s").is_null()) grid.duration_s = j.at("duration_s").get<double>();
     grid.align = j.at("align").get<std::string>();
     grid.max_dt_s = j.at("max_dt_s").get<double>();
+    if (j.contains("repro")) {
+      grid.repro = j.at("repro").get<std::string>();
+      grid.repro_settings = j.at("repro_settings").get<std::map<std::string, std::string>>();
+    }
   } catch (const nlohmann::json::exception& e) {
     throw InputError(source, 0, "grid", std::string("not a sweep grid: ") + e.what());
   }

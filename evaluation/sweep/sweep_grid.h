@@ -32,6 +32,12 @@ struct SweepGrid {
   std::optional<double> duration_s;  // scenario default when unset
   std::string align = "none";        // ATE alignment (evaluation/alignment.h names)
   double max_dt_s = 0.02;            // association tolerance
+  // A reproduction on the sweep machinery (`mavloc repro NAME --jobs N`): each unit is one
+  // (scenario, seed) run of that reproduction (ReproEntry::unit, evaluation/repro/repro.h) with
+  // its `--set` settings, instead of the estimators. Empty for `mavloc sweep`; written to the
+  // grid's JSON only when set, so a sweep's grid text is unchanged.
+  std::string repro;
+  std::map<std::string, std::string> repro_settings;
 };
 
 // One unit of the grid.

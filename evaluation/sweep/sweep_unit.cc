@@ -5,6 +5,7 @@
 #include "core/errors.h"
 #include "datasets/scenarios/scenario.h"
 #include "evaluation/comparison.h"
+#include "evaluation/repro/repro.h"
 #include "solver/estimator.h"
 
 namespace mavloc {
@@ -56,6 +57,14 @@ void AddMetric(nlohmann::json& row, const std::string& name, double value,
 
 nlohmann::json RunSweepUnit(const SweepGrid& grid, size_t index) {
   const SweepUnit unit = SweepUnitAt(grid, index);
+  if (!grid.repro.empty()) {  // one run of a reproduction (`repro NAME --jobs N`)
+    const ReproEntry* entry = FindRepro(grid.repro);
+    if (!entry || !entry->unit)
+      throw InputError("sweep: '" + grid.repro + "' is not a reproduction that runs as units");
+    nlohmann::json result = entry->unit(grid.repro_settings, unit.scenario, unit.seed);
+    result["index"] = index;
+    return result;
+  }
   ScenarioOptions scenario_options;
   scenario_options.seed = unit.seed;
   scenario_options.duration_s = grid.duration_s;

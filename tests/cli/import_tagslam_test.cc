@@ -150,6 +150,18 @@ TEST_F(CliImportTagslamBroken, CameraWithoutPoseOrModel) {
   ExpectCleanFailure("--camera cam7", "cam7': no such camera");
 }
 
+// The fuzz findings of the readers, end to end (issue 17): a resolution far beyond any camera
+// (8.3e15 was cast to int: UBSan float-cast-overflow) and a YAML complex key.
+TEST_F(CliImportTagslamBroken, AbsurdResolutionAndComplexKey) {
+  Replace("cameras.yaml", "resolution: [848, 800]", "resolution: [8.3e15, 800]");
+  ExpectCleanFailure("", "cameras.yaml:7: field 'resolution'");
+  Replace("cameras.yaml", "resolution: [8.3e15, 800]", "resolution: [848, 800]");
+  // camera_poses.yaml's top-level keys are camera names (tagslam.yaml's unknown keys are ignored:
+  // TagSLAM's own parameters are there).
+  Replace("camera_poses.yaml", "cam0:", "? {a: 1}\n: 2\ncam0:");
+  ExpectCleanFailure("", "camera_poses.yaml:1: a key must be a single value, found a map");
+}
+
 TEST_F(CliImportTagslamBroken, MissingFilesAndTopics) {
   ExpectCleanFailure("--tags " + dir_ + "/none.bag", "none.bag: file does not exist");
   ExpectCleanFailure("--reference " + dir_ + "/none.bag", "none.bag: file does not exist");

@@ -10,10 +10,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/errors.h"
+#include "datasets/io/rosbag/bag_records.h"
 #include "datasets/io/rosbag/ros_messages.h"
 #include "datasets/io/rosbag/rosbag_reader.h"
 #include "datasets/io/rosbag/rosbag_tag_messages.h"
@@ -543,6 +545,61 @@ TEST(RosbagErrors, CorruptArrayLengthIsRefusedBeforeAllocation) {
     EXPECT_NE(what.find("an array of 4000000000 elements in a message of"), std::string::npos)
         << what;
   }
+}
+
+// Bytes of a file, and the file rewritten with 4 bytes (little-endian) replaced at `offset`.
+std::string FileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+void PatchUint32(const std::string& path, uint64_t offset, uint32_t value) {
+  std::string bytes = FileBytes(path);
+  for (int i = 0; i < 4; ++i) bytes[offset + i] = static_cast<char>((value >> (8 * i)) & 0xff);
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+// Found by fuzz_rosbag: rosbag::Bag::open read a header length of 4 GB at the index position and
+// allocated it before the read failed. The record walk now runs before rosbag opens the bag.
+TEST(RosbagErrors, CorruptLengthsAndPositionsAreRefusedBeforeRosbagReadsThem) {
+  const std::string dir = testing::MakeTempDir();
+  const std::string good = dir + "/good.bag";
+  WriteTestBag(good, rosbag::compression::Uncompressed);
+  const BagRecordScan scan = ScanBagRecords(good);
+  ASSERT_TRUE(scan.problem.empty()) << scan.problem;
+  ASSERT_GT(scan.index_pos, 13u);
+  const auto expect_refused = [&](const std::string& path, const std::string& expected) {
+    try {
+      ReadRosbagImu(path, "/imu");
+      FAIL() << "no error for " << expected;
+    } catch (const InputError& error) {
+      const std::string what = error.what();
+      EXPECT_NE(what.find(path), std::string::npos) << what;
+      EXPECT_NE(what.find(expected), std::string::npos) << what;
+    }
+  };
+  // The header length of the first index record.
+  const std::string huge_header = dir + "/huge_header.bag";
+  fs::copy_file(good, huge_header);
+  PatchUint32(huge_header, scan.index_pos, 0xFFFFFFFFu);
+  expect_refused(huge_header, fmt::format("the record at byte {} has an implausible header length "
+                                          "4294967295",
+                                          scan.index_pos));
+  // The bag header's index position, moved into the middle of a record.
+  const std::string bytes = FileBytes(good);
+  const auto field = bytes.find("index_pos=");
+  ASSERT_NE(field, std::string::npos);
+  const std::string moved = dir + "/moved_index.bag";
+  fs::copy_file(good, moved);
+  PatchUint32(moved, field + 10, static_cast<uint32_t>(scan.index_pos + 1));
+  expect_refused(
+      moved, fmt::format("the index position {} is not the start of a record", scan.index_pos + 1));
+  // A chunk's uncompressed size (the field after "size=" in the first chunk header).
+  const auto size_field = bytes.find("size=");
+  ASSERT_NE(size_field, std::string::npos);
+  const std::string big_chunk = dir + "/big_chunk.bag";
+  fs::copy_file(good, big_chunk);
+  PatchUint32(big_chunk, size_field + 5, 0xF0000000u);
+  expect_refused(big_chunk, "states an implausible uncompressed size");
 }
 
 TEST(RosbagErrors, TruncatedBagNamesTheByteOffset) {

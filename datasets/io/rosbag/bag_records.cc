@@ -6,6 +6,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <set>
+#include <utility>
 #include <vector>
 
 #include "core/errors.h"
@@ -19,7 +21,21 @@ constexpr uint64_t kMagicBytes = sizeof(kMagic) - 1;
 constexpr uint32_t kMaxHeaderBytes = 1u << 24;  // record headers are a few hundred bytes
 
 constexpr uint8_t kOpBagHeader = 0x03;
+constexpr uint8_t kOpIndexData = 0x04;
 constexpr uint8_t kOpChunk = 0x05;
+constexpr uint8_t kOpChunkInfo = 0x06;
+constexpr uint64_t kIndexEntryBytes = 12;  // index data version 1: uint64 time + uint32 offset
+
+// A little-endian integer field of `bytes` bytes; false when absent or of another size.
+bool HeaderInteger(const ros::Header& header, const std::string& name, size_t bytes,
+                   uint64_t* value) {
+  std::string text;
+  if (!header.getValue(name, text) || text.size() != bytes) return false;
+  *value = 0;
+  for (size_t i = 0; i < bytes; ++i)
+    *value |= static_cast<uint64_t>(static_cast<unsigned char>(text[i])) << (8 * i);
+  return true;
+}
 
 bool ReadUint32(std::ifstream& in, uint32_t* value) {
   unsigned char bytes[4];
@@ -42,16 +58,20 @@ BagRecordScan ScanBagRecords(const std::string& path) {
   }
   uint64_t offset = kMagicBytes;
   std::vector<uint8_t> header_bytes;
+  std::set<uint64_t> record_starts, chunk_starts;
+  std::vector<std::pair<uint64_t, uint64_t>> chunk_pointers;  // (chunk-info offset, chunk_pos)
   while (offset < scan.file_bytes) {
     scan.end_offset = offset;
+    record_starts.insert(offset);
     uint32_t header_len = 0;
-    if (!ReadUint32(in, &header_len) || offset + 4 + header_len > scan.file_bytes) {
-      scan.problem = fmt::format("a record at byte {} is cut off (truncated file)", offset);
-      return scan;
-    }
-    if (header_len > kMaxHeaderBytes) {
+    const bool read = ReadUint32(in, &header_len);
+    if (read && header_len > kMaxHeaderBytes) {
       scan.problem = fmt::format("the record at byte {} has an implausible header length {}",
                                  offset, header_len);
+      return scan;
+    }
+    if (!read || offset + 4 + header_len > scan.file_bytes) {
+      scan.problem = fmt::format("a record at byte {} is cut off (truncated file)", offset);
       return scan;
     }
     header_bytes.resize(header_len);
@@ -76,18 +96,51 @@ BagRecordScan ScanBagRecords(const std::string& path) {
     }
     const auto opcode = static_cast<uint8_t>(op[0]);
     if (opcode == kOpBagHeader) {
-      std::string index_pos;
-      if (header.getValue("index_pos", index_pos) && index_pos.size() == 8) {
-        std::memcpy(&scan.index_pos, index_pos.data(), 8);  // little-endian, as the host
-      }
+      HeaderInteger(header, "index_pos", 8, &scan.index_pos);
     } else if (opcode == kOpChunk) {
       std::string compression = "none";
       header.getValue("compression", compression);
+      uint64_t size = 0;
+      if (!HeaderInteger(header, "size", 4, &size) || size > kMaxChunkBytes ||
+          (compression == "none" && size != data_len)) {
+        scan.problem = fmt::format(
+            "the chunk at byte {} states an implausible uncompressed size ({} bytes of data)",
+            offset, data_len);
+        return scan;
+      }
       ++scan.chunks;
       ++scan.chunks_by_compression[compression];
+      chunk_starts.insert(offset);
+    } else if (opcode == kOpChunkInfo) {
+      uint64_t chunk_pos = 0;
+      if (HeaderInteger(header, "chunk_pos", 8, &chunk_pos))
+        chunk_pointers.emplace_back(offset, chunk_pos);
+    } else if (opcode == kOpIndexData) {
+      uint64_t count = 0;
+      if (HeaderInteger(header, "count", 4, &count) && count * kIndexEntryBytes > data_len) {
+        scan.problem = fmt::format("the index record at byte {} counts {} entries in {} bytes",
+                                   offset, count, data_len);
+        return scan;
+      }
     }
     offset += 8 + uint64_t{header_len} + data_len;
     in.seekg(static_cast<std::streamoff>(offset));
+  }
+  if (scan.index_pos != 0 && scan.index_pos < scan.file_bytes &&
+      !record_starts.count(scan.index_pos)) {
+    scan.end_offset = scan.index_pos;
+    scan.problem =
+        fmt::format("the index position {} is not the start of a record (corrupt)", scan.index_pos);
+    return scan;
+  }
+  for (const auto& [info_offset, chunk_pos] : chunk_pointers) {
+    if (!chunk_starts.count(chunk_pos)) {
+      scan.end_offset = info_offset;
+      scan.problem =
+          fmt::format("the chunk info at byte {} points at byte {}, which is not a chunk (corrupt)",
+                      info_offset, chunk_pos);
+      return scan;
+    }
   }
   scan.end_offset = offset;
   return scan;

@@ -5,6 +5,13 @@
 // one seek per record (chunks hold the messages; the walk does not enter them). rosbag::Bag does
 // not expose chunk headers; this walk gives the summary its compression kinds and locates the byte
 // where a truncated bag ends.
+//
+// It also checks what rosbag::Bag trusts without checking (a corrupt length makes it allocate
+// gigabytes before the read fails: found by fuzz_rosbag): every record fits in the file, the bag
+// header's index position is the start of a record, every chunk-info record points at a chunk,
+// a chunk's uncompressed size is plausible (at most kMaxChunkBytes; equal to its data for an
+// uncompressed chunk) and an index-data record holds the entries it counts. OpenedBag walks a bag
+// before rosbag opens it and refuses one with a problem.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +30,8 @@ struct BagRecordScan {
   uint64_t end_offset = 0;
   std::string problem;
 };
+
+constexpr uint64_t kMaxChunkBytes = uint64_t{1} << 30;  // rosbag writes chunks of ~768 kB
 
 // Throws InputError when the file cannot be opened or does not start with "#ROSBAG V2.0\n".
 BagRecordScan ScanBagRecords(const std::string& path);

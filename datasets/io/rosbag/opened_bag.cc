@@ -23,25 +23,13 @@ std::string TemporaryBagPath() {
       .string();
 }
 
-// Why rosbag could not open `opened_path`: the byte where the record walk stops, when it stops
-// before the end of the file.
-std::string DescribeOpenFailure(const std::string& opened_path, const std::string& what) {
-  try {
-    const BagRecordScan scan = ScanBagRecords(opened_path);
-    if (!scan.problem.empty()) {
-      return fmt::format(
-          "{} of {} bytes; rosbag: {} (the index at the end of the bag is missing; "
-          "`rosbag reindex` can rebuild it from a copy)",
-          scan.problem, scan.file_bytes, what);
-    }
-    if (scan.index_pos == 0 || scan.index_pos >= scan.file_bytes) {
-      return fmt::format("the bag was not closed (index position {} of {} bytes); rosbag: {}",
-                         scan.index_pos, scan.file_bytes, what);
-    }
-    return fmt::format("index at byte {} is unreadable; rosbag: {}", scan.index_pos, what);
-  } catch (const InputError& error) {
-    return error.what();
+// Why rosbag could not open a bag whose record walk found no problem.
+std::string DescribeOpenFailure(const BagRecordScan& scan, const std::string& what) {
+  if (scan.index_pos == 0 || scan.index_pos >= scan.file_bytes) {
+    return fmt::format("the bag was not closed (index position {} of {} bytes); rosbag: {}",
+                       scan.index_pos, scan.file_bytes, what);
   }
+  return fmt::format("index at byte {} is unreadable; rosbag: {}", scan.index_pos, what);
 }
 
 }  // namespace
@@ -55,15 +43,30 @@ OpenedBag::OpenedBag(const std::string& path) : path_(path), opened_path_(path) 
     DecompressBzip2File(path, temporary_path_);
     opened_path_ = temporary_path_;
   }
-  try {
-    bag_.open(opened_path_, rosbag::bagmode::Read);
-  } catch (const rosbag::BagException& error) {
-    const std::string description = DescribeOpenFailure(opened_path_, error.what());
+  const auto fail = [&](const std::string& description) {
     if (!temporary_path_.empty()) {
       std::error_code ignored;
       std::filesystem::remove(temporary_path_, ignored);
     }
     throw InputError(path, 0, "", (whole_file_bzip2() ? "decompressed bag: " : "") + description);
+  };
+  // rosbag trusts the lengths and positions it reads (bag_records.h): the record walk first.
+  BagRecordScan scan;
+  try {
+    scan = ScanBagRecords(opened_path_);
+  } catch (const InputError& error) {
+    fail(error.what());
+  }
+  if (!scan.problem.empty()) {
+    fail(
+        fmt::format("{} of {} bytes; not opened (a bag cut off before its index: `rosbag "
+                    "reindex` can rebuild the index from a copy)",
+                    scan.problem, scan.file_bytes));
+  }
+  try {
+    bag_.open(opened_path_, rosbag::bagmode::Read);
+  } catch (const rosbag::BagException& error) {
+    fail(DescribeOpenFailure(scan, error.what()));
   }
 }
 
