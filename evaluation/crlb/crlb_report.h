@@ -2,7 +2,9 @@
 // smoother's bound (evaluation/crlb/smoother_bound.h), per quantity as a standard deviation (RMS
 // over the keyframes) for smoothing and filtering, and every estimator's RMSE / bound at the
 // keyframes where it has a pose (smoother: smoothing bound; causal estimators: filtering bound).
-// One dataset is one Monte-Carlo draw: `mavloc repro smoother` averages over seeds.
+// One dataset is one Monte-Carlo draw: `mavloc repro smoother` averages over seeds. Laser-only
+// data: the bound and the ratios of the five laser quantities (d, v_o, roll, pitch, alpha) of
+// every estimator that reports them, instead of position and attitude.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -32,5 +34,10 @@ CrlbReport MakeCrlbReport(const Dataset& dataset,
 // it exists.
 std::vector<std::pair<std::string, double>> BoundQuantityRms(const SmootherCrlb& bound,
                                                              bool filtering);
+
+// Laser-only data: RMS over the keyframes of the bound's standard deviation of d [m], v_o [m/s],
+// roll, pitch, alpha [rad] (LaserQuantityNames); filtering over the keyframes where it exists;
+// NaN where there is none.
+std::vector<double> LaserBoundRms(const SmootherCrlb& bound, bool filtering);
 
 }  // namespace mavloc

@@ -5,8 +5,10 @@
 #include <cmath>
 
 #include "core/board_frame.h"
+#include "core/imu.h"
 #include "core/rotation.h"
 #include "core/tag_geometry.h"
+#include "evaluation/crlb/laser_bound.h"
 #include "evaluation/crlb/markov_information.h"
 #include "solver/estimators/smoother_estimator.h"
 #include "solver/smoother/smoother_initialization.h"
@@ -43,9 +45,11 @@ ImuNoise WithFloor(const ImuNoise& noise, const ImuNoise& floor) {
           std::max(noise.accelerometer_random_walk, floor.accelerometer_random_walk)};
 }
 
-// Linearised transition of the error state from t0 to t1 (see the header): Phi and Q.
+// Linearised transition of the error state from t0 to t1 (see the header): Phi and Q. With
+// true_rates, the rate and specific force held over each interval [a, b) are the true ones
+// (from the ground truth at a and b) instead of the bias-corrected sample.
 void ImuTransition(const Dataset& dataset, const ImuNoise& noise, TimeNs t0, TimeNs t1,
-                   Matrix15d* Phi, Matrix15d* Q) {
+                   bool true_rates, Matrix15d* Phi, Matrix15d* Q) {
   const auto& samples = dataset.imu.samples;
   Phi->setIdentity();
   Q->setZero();
@@ -65,14 +69,24 @@ void ImuTransition(const Dataset& dataset, const ImuNoise& noise, TimeNs t0, Tim
     const double h = NsToSeconds(b - a);
     const GroundTruthState truth = TruthAt(dataset.ground_truth, a);
     const Eigen::Matrix3d R = truth.T_W_B.R();
-    const Eigen::Vector3d w = samples[held].gyro_rad_s - truth.b_g;
-    const Eigen::Vector3d f = samples[held].accel_m_s2 - truth.b_a;
+    Eigen::Vector3d w = samples[held].gyro_rad_s - truth.b_g;
+    Eigen::Vector3d f = samples[held].accel_m_s2 - truth.b_a;
+    Eigen::Vector3d f_p = f;  // the specific force in the position row
+    if (true_rates) {
+      // The exact increments of the true motion: R_b = R_a Exp(w h),
+      // v_b - v_a - g h = R_a f h, p_b - p_a - v_a h - g h^2 / 2 = R_a f_p h^2 / 2.
+      const GroundTruthState end = TruthAt(dataset.ground_truth, b);
+      w = LogSO3(R.transpose() * end.T_W_B.R()) / h;
+      f = R.transpose() * ((end.v_W - truth.v_W) / h - GravityW());
+      f_p = R.transpose() *
+            (2.0 * (end.T_W_B.p - truth.T_W_B.p - truth.v_W * h) / (h * h) - GravityW());
+    }
     const Eigen::Matrix3d Jr = RightJacobianSO3(w * h);
     const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
 
     Matrix15d F = Matrix15d::Identity();
     F.block<3, 3>(kCrlbP, kCrlbV) = h * I;
-    F.block<3, 3>(kCrlbP, kCrlbTheta) = -0.5 * h * h * R * Skew(f);
+    F.block<3, 3>(kCrlbP, kCrlbTheta) = -0.5 * h * h * R * Skew(f_p);
     F.block<3, 3>(kCrlbP, kCrlbBa) = -0.5 * h * h * R;
     F.block<3, 3>(kCrlbTheta, kCrlbTheta) = ExpSO3(-w * h);
     F.block<3, 3>(kCrlbTheta, kCrlbBg) = -h * Jr;
@@ -161,6 +175,16 @@ Eigen::Matrix<double, 15, 2> CanonicalYawJacobian(const Eigen::Matrix3d& R_W_M, 
   return c * g;
 }
 
+// tags0 or tags1 (with a second camera) holding a map tag (as the smoother decides laser-only).
+bool HasMapTags(const Dataset& dataset) {
+  const auto in_map = [&](const std::vector<TagObservation>& stream) {
+    for (const TagObservation& obs : stream)
+      if (dataset.map.tags.count(obs.tag_id)) return true;
+    return false;
+  };
+  return in_map(dataset.tags) || (dataset.cameras.size() > 1 && in_map(dataset.tags1));
+}
+
 // Index of the keyframe within the smoother's attach tolerance of t_ns, or -1.
 int KeyframeAt(const std::vector<TimeNs>& times, TimeNs t_ns) {
   auto it = std::lower_bound(times.begin(), times.end(), t_ns - kAttachToleranceNs);
@@ -174,7 +198,8 @@ int KeyframeAt(const std::vector<TimeNs>& times, TimeNs t_ns) {
 
 }  // namespace
 
-SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset, const EstimatorOptions& smoother_options) {
+SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset, const EstimatorOptions& smoother_options,
+                                 const CrlbModelOptions& model) {
   const auto start = std::chrono::steady_clock::now();
   SmootherCrlb out;
   if (dataset.ground_truth.size() < 2 || dataset.imu.samples.size() < 2) {
@@ -203,12 +228,9 @@ SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset, const EstimatorOptions&
     }
     R_W_M = BoardToWorldRotation(*up_M);
   }
-  if (!dataset.laser.empty() && dataset.features.empty() && dataset.tags.empty()) {
-    out.reason =
-        "laser spot on an unknown plane: the plane parameters and the gauge priors of the "
-        "laser-only problem are not in the bound's model";
-    return out;
-  }
+  // Laser-only data (as SmootherEstimator::IsLaserOnly): the plane is a nuisance parameter.
+  const bool laser_only =
+      !dataset.laser.empty() && dataset.features.empty() && !HasMapTags(dataset);
   const bool features_used = !dataset.features.empty();
   if (features_used && options.landmarks != LandmarkMode::kKnown) {
     out.reason = options.features_as_bearings
@@ -236,8 +258,20 @@ SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset, const EstimatorOptions&
   }
   MarkovInformation info;
   info.node.assign(n, Eigen::MatrixXd::Zero(15, 15));
-  std::vector<Pose> truth(n);
-  for (int k = 0; k < n; ++k) truth[k] = TruthAt(dataset.ground_truth, times[k]).T_W_B;
+  std::vector<GroundTruthState> truth(n);
+  for (int k = 0; k < n; ++k) truth[k] = TruthAt(dataset.ground_truth, times[k]);
+
+  std::optional<LaserSpotModel> laser;
+  if (laser_only) {
+    std::string why;
+    laser = LaserSpotModelFor(dataset, options.laser_beam, options.laser_sigma_rad, truth[0].T_W_B,
+                              &why);
+    if (!laser) {
+      out.reason = why;
+      return out;
+    }
+    out.laser_only = true;
+  }
 
   // Priors: the first biases.
   for (int i = 0; i < 3; ++i) {
@@ -259,7 +293,7 @@ SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset, const EstimatorOptions&
   const auto add_point = [&](int k, const CameraSensor& camera, const Eigen::Vector3d& p_map) {
     const Eigen::Vector3d p_W = board ? Eigen::Vector3d(R_W_M * p_map) : p_map;
     Eigen::Matrix<double, 2, 8> J;
-    if (!PixelJacobian(camera, truth[k], p_W, options.pixel_sigma_px, board, &J)) return;
+    if (!PixelJacobian(camera, truth[k].T_W_B, p_W, options.pixel_sigma_px, board, &J)) return;
     const Eigen::Matrix<double, 2, 6> J_x = J.leftCols<6>();
     info.node[k].topLeftCorner<6, 6>() += J_x.transpose() * J_x;
     if (board) {
@@ -289,46 +323,101 @@ SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset, const EstimatorOptions&
         add_point(k, dataset.cameras[c], corner);
     }
   }
+
+  // Laser-only data: the spot's bearing angle with the plane (tangent delta, 3) as a nuisance
+  // parameter known to no prior, and the smoother's gauge priors (laser_bound.h).
+  if (laser) {
+    info.coupling.assign(n, Eigen::MatrixXd::Zero(15, 3));
+    info.nuisance = Eigen::MatrixXd::Zero(3, 3);
+    info.nuisance_node.assign(n, Eigen::MatrixXd::Zero(3, 3));
+    const int g =
+        model.laser_gauge_keyframe < 0 ? n - 1 : std::min(model.laser_gauge_keyframe, n - 1);
+    info.node[g] += LaserGaugePriorInformation(truth[g].T_W_B.R(), laser->plane.n_W);
+    for (const LaserObservation& obs : dataset.laser) {
+      const int k = KeyframeAt(times, obs.t_ns);
+      if (k < 0) continue;
+      Eigen::Matrix<double, 1, 9> J;
+      if (!LaserSpotBearingJacobian(*laser, truth[k].T_W_B, &J)) continue;
+      J /= laser->sigma_rad;
+      const Eigen::Matrix<double, 1, 6> J_x = J.leftCols<6>();
+      const Eigen::Matrix<double, 1, 3> J_d = J.rightCols<3>();
+      info.node[k].topLeftCorner<6, 6>() += J_x.transpose() * J_x;
+      info.coupling[k].topRows<6>() += J_x.transpose() * J_d;
+      info.nuisance += J_d.transpose() * J_d;
+      info.nuisance_node[k] += J_d.transpose() * J_d;
+      ++out.visual_residuals;
+    }
+  }
   if (out.visual_residuals == 0) {
-    out.reason = "no map point observed at a keyframe";
+    out.reason = laser ? "no laser spot at a keyframe" : "no map point observed at a keyframe";
     return out;
   }
 
   // IMU transitions.
   const ImuNoise noise = WithFloor(dataset.imu.noise, options.noise_floor);
+  const bool true_rates = laser && model.laser_true_imu_rates;
   for (int k = 0; k + 1 < n; ++k) {
     Matrix15d Phi, Q;
-    ImuTransition(dataset, noise, times[k], times[k + 1], &Phi, &Q);
+    ImuTransition(dataset, noise, times[k], times[k + 1], true_rates, &Phi, &Q);
     info.AddTransition(Phi, Q);
   }
 
   const MarkovBounds bounds = ComputeMarkovBounds(info);
-  if (!bounds.smoothing_ok) {
+  if (!bounds.smoothing_ok || (laser && bounds.nuisance_covariance.size() == 0)) {
     out.reason = "the information matrix is singular (unobservable states)";
     return out;
   }
   if (board) out.tilt_covariance = Eigen::Matrix2d(bounds.nuisance_covariance);
+  if (laser) out.plane_covariance = Eigen::Matrix3d(bounds.nuisance_covariance);
   for (int k = 0; k < n; ++k) {
     CrlbKeyframe kf;
     kf.t_ns = times[k];
-    kf.T_W_B = truth[k];
+    kf.T_W_B = truth[k].T_W_B;
     kf.smoothing = bounds.smoothing[k];
     if (bounds.filtering[k]) kf.filtering = Matrix15d(*bounds.filtering[k]);
     if (board) {
       // The reported error is dx_k + K_k d (the canonical re-expression, see the header):
       // Cov = Sigma_xx + K Sigma_dx + Sigma_xd K^T + K Sigma_dd K^T.
       const Eigen::Matrix<double, 15, 2> K =
-          CanonicalYawJacobian(R_W_M, truth[k], TruthAt(dataset.ground_truth, times[k]).v_W);
+          CanonicalYawJacobian(R_W_M, truth[k].T_W_B, truth[k].v_W);
       const Eigen::Matrix<double, 15, 2> X = bounds.smoothing_cross[k];
       const Matrix15d C = kf.smoothing + K * X.transpose() + X * K.transpose() +
                           K * bounds.nuisance_covariance * K.transpose();
       kf.smoothing = 0.5 * (C + C.transpose());
+    }
+    if (laser) {
+      CrlbLaserQuantities q;
+      q.truth = LaserQuantitiesAt(*laser, truth[k].T_W_B, truth[k].v_W);
+      const Eigen::Matrix<double, 5, 18> J =
+          LaserQuantityJacobian(*laser, truth[k].T_W_B, truth[k].v_W);
+      q.smoothing = LaserQuantityCovariance(J, bounds.smoothing[k], bounds.smoothing_cross[k],
+                                            bounds.nuisance_covariance);
+      if (bounds.filtering[k] && k < static_cast<int>(bounds.filtering_cross.size()) &&
+          bounds.filtering_cross[k].size() > 0)
+        q.filtering = LaserQuantityCovariance(J, *bounds.filtering[k], bounds.filtering_cross[k],
+                                              bounds.filtering_nuisance[k]);
+      kf.laser = q;
     }
     out.keyframes.push_back(kf);
   }
   out.ok = true;
   out.compute_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
+}
+
+Eigen::Matrix<double, 5, 1> CrlbLaserQuantities::SmoothingSigmas() const {
+  Eigen::Matrix<double, 5, 1> s;
+  for (int i = 0; i < 5; ++i)
+    s(i) = smoothing(i, i) > 0.0 ? std::sqrt(smoothing(i, i)) : std::nan("");
+  return s;
+}
+
+std::optional<Eigen::Matrix<double, 5, 1>> CrlbLaserQuantities::FilteringSigmas() const {
+  if (!filtering) return std::nullopt;
+  Eigen::Matrix<double, 5, 1> s;
+  for (int i = 0; i < 5; ++i)
+    s(i) = (*filtering)(i, i) > 0.0 ? std::sqrt((*filtering)(i, i)) : std::nan("");
+  return s;
 }
 
 CrlbSigmas SigmasOf(const Matrix15d& C, const Eigen::Quaterniond& q_W_B) {

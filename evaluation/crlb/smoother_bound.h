@@ -38,8 +38,28 @@
 //   quantities only: the reported T_W_B in the canonical W is already gauge-invariant (it depends
 //   only on T_M_B and the gravity direction in M). The time offset and extrinsics, when asked to be
 //   estimated, are not modelled (no bound).
-// Unsupported (reported, no bound): unknown landmarks, bearings
-// (three-point scenario) and the laser spot (plane parameters, gauge priors). Bearings have no
+// - Laser-only data (laser-plane, euroc-laser; evaluation/crlb/laser_bound.h): the spot's bearing
+//   angle atan(x) of the simulator's model with the stated angular noise (scenario.yaml
+//   bearing_noise_deg, as the smoother reads it), the plane (unit normal on the sphere, offset) a
+//   static nuisance parameter without prior, marginalised exactly (markov_information.h, with
+//   nuisance_node: the filtering bound has the plane unknown too), and the smoother's gauge priors
+//   on its first keyframe. The position, the in-plane velocity, the yaw and the rotation about the
+//   plane normal are unobservable, so the 15 x 15 bounds are those of the smoother's gauge (errors
+//   relative to its first keyframe, not against the truth's frame); what is bounded is the five
+//   gauge-invariant quantities of RR-7906 (d, v_o, roll, pitch, alpha: CrlbKeyframe::laser), by
+//   J Sigma J^T with Sigma the joint covariance of (x_k, plane). Here the IMU transition is
+//   linearised at the TRUE motion over each sample interval [a, b] (from the ground truth:
+//   w = Log(R_a^T R_b) / h, and the specific force of the velocity row
+//   f = R_a^T ((v_b - v_a) / h - g) and of the position row
+//   f_p = R_a^T (2 (p_b - p_a - v_a h) / h^2 - g), the exact increments of the true states)
+//   instead of the noisy samples held over the interval: the Fisher information is the one of the
+//   measurement means at the true states, and only then are the unobservable rotations (about
+//   gravity; about the normal with the in-plane acceleration) exact null directions of it. With
+//   the samples they would look slightly observable through the sample noise and the
+//   discretisation, and the gauge priors would leak into the quantities' bound
+//   (tests/evaluation/crlb_laser_bound_test.cc prints by how much).
+// Unsupported (reported, no bound): unknown landmarks and bearings
+// (three-point scenario). Bearings have no
 // finite bound under the simulator's angular noise
 // (datasets/simulation/camera_simulator.h PerturbBearing: a Gaussian angle theta ~ N(0, s^2)
 // about a uniformly random perpendicular axis): the 2-D tangent error e = theta u has the density
@@ -63,11 +83,23 @@ using Matrix15d = Eigen::Matrix<double, 15, 15>;
 // Error-state order of the bound: [dp_W (m); dtheta (rad, R Exp(dtheta)); dv_W (m/s); db_g; db_a].
 enum CrlbStateIndex { kCrlbP = 0, kCrlbTheta = 3, kCrlbV = 6, kCrlbBg = 9, kCrlbBa = 12 };
 
+// Laser-only data: the bound on the five gauge-invariant quantities d [m], v_o [m/s], roll, pitch,
+// alpha [rad] (evaluation/crlb/laser_bound.h, LaserQuantityNames) at a keyframe.
+struct CrlbLaserQuantities {
+  Eigen::Matrix<double, 5, 1> truth = Eigen::Matrix<double, 5, 1>::Zero();  // true values
+  Eigen::Matrix<double, 5, 5> smoothing = Eigen::Matrix<double, 5, 5>::Zero();
+  std::optional<Eigen::Matrix<double, 5, 5>> filtering;  // unset before the state is observable
+  // Standard deviations (sqrt of the diagonal); alpha's is NaN on a horizontal plane.
+  Eigen::Matrix<double, 5, 1> SmoothingSigmas() const;
+  std::optional<Eigen::Matrix<double, 5, 1>> FilteringSigmas() const;
+};
+
 struct CrlbKeyframe {
   TimeNs t_ns = 0;
-  Pose T_W_B;                          // true pose
-  Matrix15d smoothing;                 // covariance bound of the batch problem
-  std::optional<Matrix15d> filtering;  // causal bound (unset before the state is observable)
+  Pose T_W_B;                                // true pose
+  Matrix15d smoothing;                       // covariance bound of the batch problem
+  std::optional<Matrix15d> filtering;        // causal bound (unset before the state is observable)
+  std::optional<CrlbLaserQuantities> laser;  // laser-only data
 };
 
 struct SmootherCrlb {
@@ -78,13 +110,28 @@ struct SmootherCrlb {
   // Board map: the bound on the tilt d (left perturbation Exp((d1, d2, 0)) R_W_M about W's x and y
   // axes, rad^2; as SmootherCalibration::tilt_covariance).
   std::optional<Eigen::Matrix2d> tilt_covariance;
+  // Laser-only data: the keyframes carry `laser`; the 15 x 15 bounds are in the smoother's gauge.
+  bool laser_only = false;
+  // Laser-only data: the bound on the plane tangent (dn1, dn2 [rad], dd [m]; laser_bound.h).
+  std::optional<Eigen::Matrix3d> plane_covariance;
   double compute_s = 0.0;
+};
+
+// Model choices of the bound that tests vary (the defaults are the smoother's problem).
+struct CrlbModelOptions {
+  // Laser-only data: the keyframe that carries the smoother's gauge priors (-1: the last one;
+  // the smoother's: 0). The bound on the five quantities must not depend on it.
+  int laser_gauge_keyframe = 0;
+  // Laser-only data: linearise the IMU transitions at the true rates (see the header) rather than
+  // at the noisy samples (the other data always use the samples).
+  bool laser_true_imu_rates = true;
 };
 
 // The bound for the smoother with the given estimator options (as `--option` gives them; the
 // noise sigmas, bias priors and keyframe_stride are read as the smoother reads them).
 SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset,
-                                 const EstimatorOptions& smoother_options = EstimatorOptions());
+                                 const EstimatorOptions& smoother_options = EstimatorOptions(),
+                                 const CrlbModelOptions& model = CrlbModelOptions());
 
 // Standard deviations of a 15 x 15 bound at attitude R_W_B.
 struct CrlbSigmas {

@@ -24,6 +24,8 @@
 #include "evaluation/comparison.h"
 #include "evaluation/crlb/consistency.h"
 #include "evaluation/crlb/efficiency.h"
+#include "evaluation/crlb/laser_bound.h"
+#include "evaluation/crlb/laser_efficiency.h"
 #include "evaluation/crlb/smoother_bound.h"
 #include "evaluation/json_number.h"
 #include "evaluation/report_writer.h"
@@ -159,6 +161,9 @@ struct RunMetrics {
   // Against the Cramér–Rao bound of this run's dataset (issue 15): the smoothing bound and the
   // filtering (causal) bound, at the keyframes where the estimator has a pose.
   EfficiencySums smoothing_efficiency, filtering_efficiency;
+  // Laser-only scenarios: the five observable quantities against the bound (the 15 x 15 pose
+  // bound is in the smoother's gauge there; evaluation/crlb/laser_efficiency.h).
+  LaserEfficiencySums laser_smoothing_efficiency, laser_filtering_efficiency;
 };
 
 RunMetrics Summarize(const EstimatorEvaluation& evaluation) {
@@ -578,7 +583,9 @@ nlohmann::json MetricsToJson(const RunMetrics& m) {
           {"runtime_s", JsonNumber(m.runtime_s)},
           {"evaluation", m.json},
           {"smoothing_efficiency", EfficiencySumsToJson(m.smoothing_efficiency)},
-          {"filtering_efficiency", EfficiencySumsToJson(m.filtering_efficiency)}};
+          {"filtering_efficiency", EfficiencySumsToJson(m.filtering_efficiency)},
+          {"laser_smoothing_efficiency", LaserEfficiencySumsToJson(m.laser_smoothing_efficiency)},
+          {"laser_filtering_efficiency", LaserEfficiencySumsToJson(m.laser_filtering_efficiency)}};
 }
 
 RunMetrics MetricsFromJson(const nlohmann::json& j) {
@@ -600,6 +607,8 @@ RunMetrics MetricsFromJson(const nlohmann::json& j) {
   m.json = j.at("evaluation");
   m.smoothing_efficiency = EfficiencySumsFromJson(j.at("smoothing_efficiency"));
   m.filtering_efficiency = EfficiencySumsFromJson(j.at("filtering_efficiency"));
+  m.laser_smoothing_efficiency = LaserEfficiencySumsFromJson(j.at("laser_smoothing_efficiency"));
+  m.laser_filtering_efficiency = LaserEfficiencySumsFromJson(j.at("laser_filtering_efficiency"));
   return m;
 }
 
@@ -647,6 +656,12 @@ nlohmann::json RunUnit(const Plan& plan, uint64_t seed, const std::optional<doub
       const std::vector<StampedPose> poses = SeedPoses(evaluation.estimate);
       metrics.back().smoothing_efficiency = CompareWithBound(bound, poses, BoundKind::kSmoothing);
       metrics.back().filtering_efficiency = CompareWithBound(bound, poses, BoundKind::kFiltering);
+      if (bound.laser_only) {
+        metrics.back().laser_smoothing_efficiency =
+            CompareLaserWithBound(bound, evaluation.estimate.quantities, BoundKind::kSmoothing);
+        metrics.back().laser_filtering_efficiency =
+            CompareLaserWithBound(bound, evaluation.estimate.quantities, BoundKind::kFiltering);
+      }
     }
     evaluations.push_back(std::move(evaluation));
   }
@@ -762,12 +777,64 @@ EfficiencySums EfficiencyOf(const RowResult& r, BoundKind kind) {
   return total;
 }
 
+LaserEfficiencySums LaserEfficiencyOf(const RowResult& r, BoundKind kind) {
+  LaserEfficiencySums total;
+  for (const auto& m : r.runs)
+    total.Add(kind == BoundKind::kSmoothing ? m.laser_smoothing_efficiency
+                                            : m.laser_filtering_efficiency);
+  return total;
+}
+
+// Laser-only scenarios (issue 15): per estimator and observable quantity the bound that fits it
+// and RMSE / bound with its Monte-Carlo standard error.
+std::string LaserEfficiencyMarkdown(const ScenarioResult& s) {
+  std::vector<std::vector<std::string>> rows;
+  const auto& names = LaserQuantityNames();
+  for (const auto& r : s.rows) {
+    const bool smoothing = UsesSmoothingBound(r.row);
+    const LaserEfficiencySums e =
+        LaserEfficiencyOf(r, smoothing ? BoundKind::kSmoothing : BoundKind::kFiltering);
+    if (e.quantities.empty()) continue;
+    std::vector<std::string> row = {r.row.label, smoothing ? "smoothing" : "filtering"};
+    for (const auto& q : names) {
+      const double scale = (q == "d" || q == "v_o") ? 1e3 : 1.0 / kDeg;
+      row.push_back(fmt::format("{} / {} ± {}", FormatNumber(scale * e.BoundRms(q), 3),
+                                FormatNumber(e.Ratio(q), 3),
+                                FormatNumber(e.RatioStandardError(q), 2)));
+    }
+    rows.push_back(row);
+  }
+  if (rows.empty()) return "";
+  return "Laser quantities against the bound (bound RMS over keyframes and runs / RMSE ÷ bound ± "
+         "its Monte-Carlo standard error; d in mm, v_o in mm/s, angles in deg): the position and "
+         "attitude of laser-only data are bounded only in the smoother's gauge, so the observable "
+         "quantities of RR-7906 sect. 4 are compared instead.\n\n" +
+         MarkdownTable({"estimator", "bound", "d", "v_o", "roll", "pitch", "alpha"}, rows) + "\n";
+}
+
+nlohmann::json LaserEfficiencyJson(const LaserEfficiencySums& e) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& q : LaserQuantityNames()) {
+    if (!e.quantities.count(q)) continue;
+    j[q] = {{"bound_rms", JsonNumber(e.BoundRms(q))},
+            {"rmse", JsonNumber(e.Rmse(q))},
+            {"rmse_over_bound", JsonNumber(e.Ratio(q))},
+            {"ratio_standard_error", JsonNumber(e.RatioStandardError(q))}};
+  }
+  return j;
+}
+
 // The efficiency table (issue 15): per estimator the bound that fits it (RMS over keyframes and
 // runs of its standard deviation) and RMSE / bound, squared errors summed over runs first.
 std::string EfficiencyMarkdown(const ScenarioResult& s) {
   if (s.bound_runs == 0)
     return fmt::format("Cramér–Rao bound: not available ({}).\n\n",
                        s.bound_unavailable.empty() ? "no run" : s.bound_unavailable);
+  if (s.plan.laser)
+    return fmt::format("Cramér–Rao bound: {} of the runs have one ({} s per bound){}.\n\n",
+                       s.bound_runs, FormatNumber(s.bound_compute_s, 3),
+                       s.bound_unavailable.empty() ? "" : "; the others: " + s.bound_unavailable) +
+           LaserEfficiencyMarkdown(s);
   std::string md = fmt::format(
       "Efficiency against the Cramér–Rao bound ({} runs with a bound; {} s per bound): the "
       "smoother against the smoothing bound of its batch problem, the causal estimators against "
@@ -1026,6 +1093,11 @@ nlohmann::json ScenarioJson(const ScenarioResult& s) {
       e["cramer_rao"] = {{"smoothing", EfficiencyJson(EfficiencyOf(r, BoundKind::kSmoothing))},
                          {"filtering", EfficiencyJson(EfficiencyOf(r, BoundKind::kFiltering))},
                          {"fitting_bound", UsesSmoothingBound(r.row) ? "smoothing" : "filtering"}};
+      if (s.plan.laser) {
+        e["cramer_rao"]["laser_quantities"] = {
+            {"smoothing", LaserEfficiencyJson(LaserEfficiencyOf(r, BoundKind::kSmoothing))},
+            {"filtering", LaserEfficiencyJson(LaserEfficiencyOf(r, BoundKind::kFiltering))}};
+      }
     }
     e["anees"] = {{"position", AneesJson(SummarizeAnees(r.nees.position, r.nees.runs))},
                   {"attitude", AneesJson(SummarizeAnees(r.nees.attitude, r.nees.runs))}};
@@ -1169,7 +1241,7 @@ int RunSmootherRepro(const ReproOptions& options) {
   for (const auto& result : results) {
     md += ScenarioMarkdown(result, runs);
     json["tables"][result.plan.scenario] = ScenarioJson(result);
-    if (result.bound_runs > 0)
+    if (result.bound_runs > 0 && !result.plan.laser)
       extra["crlb_" + result.plan.scenario + ".csv"] = EfficiencyCsv(result);
     const std::string anees = AneesCsv(result);
     if (!anees.empty()) extra["anees_" + result.plan.scenario + ".csv"] = anees;
