@@ -600,6 +600,12 @@ TEST(RosbagErrors, CorruptLengthsAndPositionsAreRefusedBeforeRosbagReadsThem) {
   fs::copy_file(good, big_chunk);
   PatchUint32(big_chunk, size_field + 5, 0xF0000000u);
   expect_refused(big_chunk, "states an implausible uncompressed size");
+  // A field of the bag header record (at byte 13, its first field at 17) longer than the header:
+  // ros::Header::parse would read past its buffer.
+  const std::string long_field = dir + "/long_field.bag";
+  fs::copy_file(good, long_field);
+  PatchUint32(long_field, 17, 0x7FFFu);
+  expect_refused(long_field, "the record header at byte 13 is corrupt (a field runs past");
 }
 
 TEST(RosbagErrors, TruncatedBagNamesTheByteOffset) {

@@ -37,6 +37,24 @@ bool HeaderInteger(const ros::Header& header, const std::string& name, size_t by
   return true;
 }
 
+// Whether every <uint32 len><name>=<value> field of a record header lies inside it:
+// ros::Header::parse copies a field of the length it reads without checking it against the
+// header's (found by fuzz_rosbag: a heap-buffer-overflow in libcpp_common), so it only sees
+// headers that pass this check.
+bool HeaderFieldsFit(const std::vector<uint8_t>& bytes) {
+  size_t at = 0;
+  while (at < bytes.size()) {
+    if (bytes.size() - at < 4) return false;
+    const uint32_t length =
+        static_cast<uint32_t>(bytes[at]) | static_cast<uint32_t>(bytes[at + 1]) << 8 |
+        static_cast<uint32_t>(bytes[at + 2]) << 16 | static_cast<uint32_t>(bytes[at + 3]) << 24;
+    at += 4;
+    if (length > bytes.size() - at) return false;
+    at += length;
+  }
+  return true;
+}
+
 bool ReadUint32(std::ifstream& in, uint32_t* value) {
   unsigned char bytes[4];
   if (!in.read(reinterpret_cast<char*>(bytes), 4)) return false;
@@ -80,6 +98,12 @@ BagRecordScan ScanBagRecords(const std::string& path) {
     if (!in || !ReadUint32(in, &data_len) ||
         offset + 8 + uint64_t{header_len} + data_len > scan.file_bytes) {
       scan.problem = fmt::format("a record at byte {} is cut off (truncated file)", offset);
+      return scan;
+    }
+    if (!HeaderFieldsFit(header_bytes)) {
+      scan.problem = fmt::format(
+          "the record header at byte {} is corrupt (a field runs past the header's {} bytes)",
+          offset, header_len);
       return scan;
     }
     ros::Header header;
