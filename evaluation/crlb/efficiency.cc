@@ -13,16 +13,6 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 double Ratio(double a, double b) { return b > 0.0 ? std::sqrt(a / b) : kNaN; }
 
-nlohmann::json Numbers(const std::vector<double>& values) {
-  nlohmann::json list = nlohmann::json::array();
-  for (const double v : values) list.push_back(JsonNumber(v));
-  return list;
-}
-std::vector<double> NumbersFrom(const nlohmann::json& json) {
-  std::vector<double> values;
-  for (const auto& v : json) values.push_back(NumberFromJson(v));
-  return values;
-}
 }  // namespace
 
 nlohmann::json EfficiencySumsToJson(const EfficiencySums& e) {
@@ -36,10 +26,10 @@ nlohmann::json EfficiencySumsToJson(const EfficiencySums& e) {
           {"attitude_bound2", JsonNumber(e.attitude_bound2)},
           {"frames", e.frames},
           {"runs", e.runs},
-          {"run_position_error2", Numbers(e.run_position_error2)},
-          {"run_position_bound2", Numbers(e.run_position_bound2)},
-          {"run_attitude_error2", Numbers(e.run_attitude_error2)},
-          {"run_attitude_bound2", Numbers(e.run_attitude_bound2)},
+          {"run_position_error2", JsonNumbers(e.run_position_error2)},
+          {"run_position_bound2", JsonNumbers(e.run_position_bound2)},
+          {"run_attitude_error2", JsonNumbers(e.run_attitude_error2)},
+          {"run_attitude_bound2", JsonNumbers(e.run_attitude_bound2)},
           {"per_time", per_time}};
 }
 
@@ -51,10 +41,10 @@ EfficiencySums EfficiencySumsFromJson(const nlohmann::json& j) {
   e.attitude_bound2 = NumberFromJson(j.at("attitude_bound2"));
   e.frames = j.at("frames").get<int>();
   e.runs = j.at("runs").get<int>();
-  e.run_position_error2 = NumbersFrom(j.at("run_position_error2"));
-  e.run_position_bound2 = NumbersFrom(j.at("run_position_bound2"));
-  e.run_attitude_error2 = NumbersFrom(j.at("run_attitude_error2"));
-  e.run_attitude_bound2 = NumbersFrom(j.at("run_attitude_bound2"));
+  e.run_position_error2 = NumbersFromJson(j.at("run_position_error2"));
+  e.run_position_bound2 = NumbersFromJson(j.at("run_position_bound2"));
+  e.run_attitude_error2 = NumbersFromJson(j.at("run_attitude_error2"));
+  e.run_attitude_bound2 = NumbersFromJson(j.at("run_attitude_bound2"));
   for (const auto& row : j.at("per_time")) {
     std::array<double, 5> v;
     for (int i = 0; i < 5; ++i) v[i] = NumberFromJson(row.at(i + 1));

@@ -15,18 +15,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-nlohmann::json Numbers(const std::vector<double>& values) {
-  nlohmann::json list = nlohmann::json::array();
-  for (const double v : values) list.push_back(JsonNumber(v));
-  return list;
-}
-
-std::vector<double> NumbersFrom(const nlohmann::json& json) {
-  std::vector<double> values;
-  for (const auto& v : json) values.push_back(NumberFromJson(v));
-  return values;
-}
-
 const QuantityEfficiency* Find(const LaserEfficiencySums& s, const std::string& name) {
   auto it = s.quantities.find(name);
   return it == s.quantities.end() ? nullptr : &it->second;
@@ -137,8 +125,8 @@ nlohmann::json LaserEfficiencySumsToJson(const LaserEfficiencySums& sums) {
     quantities[name] = {{"error2", JsonNumber(q.error2)},
                         {"bound2", JsonNumber(q.bound2)},
                         {"frames", q.frames},
-                        {"run_error2", Numbers(q.run_error2)},
-                        {"run_bound2", Numbers(q.run_bound2)}};
+                        {"run_error2", JsonNumbers(q.run_error2)},
+                        {"run_bound2", JsonNumbers(q.run_bound2)}};
   return {{"runs", sums.runs}, {"quantities", quantities}};
 }
 
@@ -152,8 +140,8 @@ LaserEfficiencySums LaserEfficiencySumsFromJson(const nlohmann::json& json) {
     q.error2 = NumberFromJson(j.at("error2"));
     q.bound2 = NumberFromJson(j.at("bound2"));
     q.frames = j.at("frames").get<int>();
-    q.run_error2 = NumbersFrom(j.at("run_error2"));
-    q.run_bound2 = NumbersFrom(j.at("run_bound2"));
+    q.run_error2 = NumbersFromJson(j.at("run_error2"));
+    q.run_bound2 = NumbersFromJson(j.at("run_bound2"));
     sums.quantities[it.key()] = q;
   }
   return sums;
