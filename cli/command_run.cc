@@ -9,6 +9,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/progress.h"
+#include "core/text.h"
 #include "datasets/io/euroc_io.h"
 #include "datasets/io/tum_io.h"
 #include "solver/estimator.h"
@@ -27,11 +28,6 @@ std::string QuantitiesCsv(const QuantityTable& q) {
     csv += "\n";
   }
   return csv;
-}
-
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 }  // namespace

@@ -229,7 +229,7 @@ std::string MarkdownTableText(const EvalReport& report) {
   text += "\n" + rule + "\n";
   for (size_t e = 0; e < report.estimates.size(); ++e) {
     text += fmt::format("| {} | {} |", report.estimates[e].label, report.estimates[e].runs.size());
-    for (const auto& a : table.rows[e]) text += " " + Cell(a, " ± ") + " |";
+    for (const auto& a : table.rows[e]) text += fmt::format(" {} |", Cell(a, " ± "));
     text += "\n";
   }
   return text;

@@ -1,5 +1,8 @@
 #include "core/dataset.h"
 
+#include <algorithm>
+#include <iterator>
+
 namespace mavloc {
 
 const CameraSensor* Dataset::Camera(const std::string& camera_name) const {
@@ -7,6 +10,40 @@ const CameraSensor* Dataset::Camera(const std::string& camera_name) const {
     if (camera.name == camera_name) return &camera;
   }
   return nullptr;
+}
+
+namespace {
+
+auto FirstNotBefore(const std::vector<GroundTruthState>& truth, TimeNs t_ns) {
+  return std::lower_bound(truth.begin(), truth.end(), t_ns,
+                          [](const GroundTruthState& s, TimeNs t) { return s.t_ns < t; });
+}
+
+}  // namespace
+
+const GroundTruthState& NearestTruth(const std::vector<GroundTruthState>& truth, TimeNs t_ns) {
+  const auto it = FirstNotBefore(truth, t_ns);
+  if (it == truth.end()) return truth.back();
+  if (it != truth.begin() && (t_ns - std::prev(it)->t_ns) < (it->t_ns - t_ns))
+    return *std::prev(it);
+  return *it;
+}
+
+GroundTruthState InterpolatedTruth(const std::vector<GroundTruthState>& truth, TimeNs t_ns) {
+  const auto it = FirstNotBefore(truth, t_ns);
+  if (it == truth.begin()) return truth.front();
+  if (it == truth.end()) return truth.back();
+  const GroundTruthState& a = *std::prev(it);
+  const GroundTruthState& b = *it;
+  if (b.t_ns == t_ns || b.t_ns == a.t_ns) return b;
+  const double s = static_cast<double>(t_ns - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns);
+  GroundTruthState out;
+  out.t_ns = t_ns;
+  out.T_W_B = Pose(a.T_W_B.q.slerp(s, b.T_W_B.q).normalized(), (1 - s) * a.T_W_B.p + s * b.T_W_B.p);
+  out.v_W = (1 - s) * a.v_W + s * b.v_W;
+  out.b_g = (1 - s) * a.b_g + s * b.b_g;
+  out.b_a = (1 - s) * a.b_a + s * b.b_a;
+  return out;
 }
 
 }  // namespace mavloc

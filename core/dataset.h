@@ -127,4 +127,11 @@ struct Dataset {
   const CameraSensor* Camera(const std::string& camera_name) const;
 };
 
+// The ground-truth row nearest to t_ns (rows are time-ordered, at least one).
+const GroundTruthState& NearestTruth(const std::vector<GroundTruthState>& truth, TimeNs t_ns);
+
+// The true state at t_ns, interpolated between the two rows around it (slerp for the attitude,
+// linear for position, velocity and biases); the first or last row outside them.
+GroundTruthState InterpolatedTruth(const std::vector<GroundTruthState>& truth, TimeNs t_ns);
+
 }  // namespace mavloc

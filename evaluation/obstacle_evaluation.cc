@@ -10,15 +10,16 @@
 #include <opencv2/core/utility.hpp>
 
 #include "core/errors.h"
+#include "core/numbers.h"
 #include "core/progress.h"
 #include "evaluation/association.h"
+#include "evaluation/json_number.h"
 #include "frontends/image_io.h"
 
 namespace mavloc {
 namespace {
 
 constexpr double kPoseMaxDtS = 0.1;
-const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The source poses interpolated at the given times (positions linearly, rotations by slerp);
 // times outside the source's span map to nothing.
@@ -43,10 +44,6 @@ double Ratio(int numerator, int denominator) {
 
 std::string Num(double value, int digits = 3) {
   return std::isfinite(value) ? fmt::format("{:.{}f}", value, digits) : "nan";
-}
-
-nlohmann::json JsonNumber(double value) {
-  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
 
 StereoStageTimings MeanTimings(const StereoObstacleRun& run) {

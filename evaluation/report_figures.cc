@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "core/text.h"
 #include "evaluation/report_figures_script.h"  // generated: kReportFiguresScript (CMakeLists.txt)
 #include "evaluation/report_html.h"
 
@@ -29,20 +30,6 @@ constexpr int kMissingModuleExit = 3;
 bool Exists(const std::string& dir, const std::string& name) {
   std::error_code error;
   return fs::exists(fs::path(dir) / name, error);
-}
-
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// POSIX shell single quoting: ' -> '\''.
-std::string ShellQuote(const std::string& text) {
-  std::string out = "'";
-  for (const char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
 }
 
 std::string LastLines(const std::string& text, int count) {
@@ -104,7 +91,7 @@ ScriptRun RunScript(const std::string& python, const std::string& report_dir,
   } else {
     run.err = "cannot start " + python;
   }
-  run.err += ReadFile(err_path);
+  run.err += ReadWholeFile(err_path);
   fs::remove(script, error);
   fs::remove(err_path, error);
   return run;
@@ -185,7 +172,7 @@ void DrawFigures(const std::string& report_dir, FigureOutcome* outcome,
     const auto tab = line.find('\t', 7);
     const std::string file = line.substr(7, tab == std::string::npos ? tab : tab - 7);
     const std::string caption = tab == std::string::npos ? "" : line.substr(tab + 1);
-    const std::string bytes = ReadFile((fs::path(report_dir) / file).string());
+    const std::string bytes = ReadWholeFile((fs::path(report_dir) / file).string());
     if (bytes.empty()) continue;
     outcome->figures.push_back(file);
     html_figures->push_back({file, caption, bytes});
@@ -246,7 +233,7 @@ FigureOutcome WriteReportFigures(const std::string& report_dir) {
   }
 
   const std::string markdown_path = (fs::path(report_dir) / MarkdownName(outcome.kind)).string();
-  const std::string markdown = WithoutFiguresSection(ReadFile(markdown_path));
+  const std::string markdown = WithoutFiguresSection(ReadWholeFile(markdown_path));
   HtmlPage page;
   page.title = TitleOf(markdown, report_dir);
   page.markdown = markdown;

@@ -1,4 +1,5 @@
 #include "evaluation/report_html.h"
+#include "core/text.h"
 
 #include <cctype>
 #include <sstream>
@@ -8,13 +9,6 @@ namespace {
 
 bool StartsWith(const std::string& text, const std::string& prefix) {
   return text.compare(0, prefix.size(), prefix) == 0;
-}
-
-std::string Trim(const std::string& text) {
-  const auto begin = text.find_first_not_of(" \t\r\n");
-  if (begin == std::string::npos) return "";
-  const auto end = text.find_last_not_of(" \t\r\n");
-  return text.substr(begin, end - begin + 1);
 }
 
 // Inline Markdown: `code`, **strong**, *emphasis*, [text](url); everything else escaped.

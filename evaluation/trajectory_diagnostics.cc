@@ -8,13 +8,12 @@
 #include <limits>
 #include <optional>
 
+#include "core/numbers.h"
 #include "core/rotation.h"
 
 namespace mavloc {
 
 namespace {
-
-constexpr double kRadToDeg = 180.0 / M_PI;
 
 // |omega| of a pose sequence averaged over a baseline b, on a uniform grid:
 //   rate(t) = |Log(R(t - b/2)^T R(t + b/2))| / b,  t = begin + step k,

@@ -4,13 +4,12 @@
 
 #include <cmath>
 
+#include "core/numbers.h"
 #include "core/rotation.h"
 
 namespace mavloc {
 
 namespace {
-
-constexpr double kRadToDeg = 180.0 / M_PI;
 
 void SetWhy(std::string* why, const std::string& text) {
   if (why) *why = text;

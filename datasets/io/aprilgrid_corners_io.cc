@@ -25,7 +25,7 @@ constexpr std::array<const char*, 12> kColumns = {
     "kp_y", "p_x",      "p_y",      "p_z",      "tag_id",      "corner_idx"};
 enum Column { kTs, kRows, kCols, kSize, kSpacing, kKpX, kKpY, kPx, kPy, kPz, kTagId, kCornerIdx };
 
-std::string_view Trim(std::string_view text) {
+std::string_view TrimCsvField(std::string_view text) {
   while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
   while (!text.empty() && (text.back() == ' ' || text.back() == '\t' || text.back() == '\r'))
     text.remove_suffix(1);
@@ -39,8 +39,8 @@ size_t Split(std::string_view line, std::array<std::string_view, 12>* fields) {
   size_t begin = 0;
   while (true) {
     const size_t comma = line.find(',', begin);
-    const std::string_view field =
-        Trim(line.substr(begin, comma == std::string_view::npos ? line.npos : comma - begin));
+    const std::string_view field = TrimCsvField(
+        line.substr(begin, comma == std::string_view::npos ? line.npos : comma - begin));
     if (count < fields->size()) (*fields)[count] = field;
     ++count;
     if (comma == std::string_view::npos) return count;
@@ -226,7 +226,7 @@ AprilgridCornerFrame ReadAprilgridCornerFile(const std::string& path, const Apri
   while (begin < text.size()) {
     size_t end = text.find('\n', begin);
     if (end == std::string::npos) end = text.size();
-    const std::string_view line = Trim(std::string_view(text).substr(begin, end - begin));
+    const std::string_view line = TrimCsvField(std::string_view(text).substr(begin, end - begin));
     begin = end + 1;
     ++line_number;
     if (line.empty()) continue;

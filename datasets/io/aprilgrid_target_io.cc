@@ -62,10 +62,10 @@ bool HasTarget(const YAML::Node& node) {
   return node.IsMap() && (node["tag_rows"] || node["tagRows"]);
 }
 
-constexpr const char* kRows = "aprilgrid_tag_rows";
-constexpr const char* kCols = "aprilgrid_tag_cols";
-constexpr const char* kSize = "aprilgrid_tag_size_m";
-constexpr const char* kSpacing = "aprilgrid_tag_spacing";
+constexpr const char* kKeyRows = "aprilgrid_tag_rows";
+constexpr const char* kKeyCols = "aprilgrid_tag_cols";
+constexpr const char* kKeySize = "aprilgrid_tag_size_m";
+constexpr const char* kKeySpacing = "aprilgrid_tag_spacing";
 
 }  // namespace
 
@@ -91,15 +91,15 @@ AprilgridTarget ReadAprilgridTarget(const std::string& path) {
 }
 
 std::map<std::string, double> AprilgridMapParameters(const AprilgridTarget& target) {
-  return {{kRows, target.tag_rows},
-          {kCols, target.tag_cols},
-          {kSize, target.tag_size_m},
-          {kSpacing, target.tag_spacing}};
+  return {{kKeyRows, target.tag_rows},
+          {kKeyCols, target.tag_cols},
+          {kKeySize, target.tag_size_m},
+          {kKeySpacing, target.tag_spacing}};
 }
 
 std::optional<AprilgridTarget> AprilgridFromMap(const WorldMap& map) {
   const auto& p = map.parameters;
-  const char* keys[] = {kRows, kCols, kSize, kSpacing};
+  const char* keys[] = {kKeyRows, kKeyCols, kKeySize, kKeySpacing};
   int present = 0;
   for (const char* key : keys) present += p.count(key) ? 1 : 0;
   if (present == 0) return std::nullopt;
@@ -109,12 +109,12 @@ std::optional<AprilgridTarget> AprilgridFromMap(const WorldMap& map) {
                        "missing (the map names an aprilgrid only partly)");
   }
   AprilgridTarget target;
-  target.tag_rows = static_cast<int>(p.at(kRows));
-  target.tag_cols = static_cast<int>(p.at(kCols));
-  target.tag_size_m = p.at(kSize);
-  target.tag_spacing = p.at(kSpacing);
+  target.tag_rows = static_cast<int>(p.at(kKeyRows));
+  target.tag_cols = static_cast<int>(p.at(kKeyCols));
+  target.tag_size_m = p.at(kKeySize);
+  target.tag_spacing = p.at(kKeySpacing);
   const std::string why = target.Validate();
-  if (!why.empty() || target.tag_rows != p.at(kRows) || target.tag_cols != p.at(kCols))
+  if (!why.empty() || target.tag_rows != p.at(kKeyRows) || target.tag_cols != p.at(kKeyCols))
     throw InputError("map.yaml", 0, "parameters.aprilgrid_*",
                      "not a valid aprilgrid" + (why.empty() ? "" : ": " + why));
   return target;

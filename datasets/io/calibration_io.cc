@@ -18,7 +18,7 @@ namespace {
 
 long Line(const YAML::Node& node) { return node ? node.Mark().line + 1 : 0; }
 
-std::string Scalar(const YAML::Node& node, const std::string& field, const std::string& path) {
+std::string ScalarText(const YAML::Node& node, const std::string& field, const std::string& path) {
   const YAML::Node value = node[field];
   if (!value) throw InputError(path, Line(node), field, "missing");
   if (!value.IsScalar()) throw InputError(path, Line(value), field, "not a single value");
@@ -43,7 +43,7 @@ CameraModel MakeModel(const YAML::Node& node, const std::string& path, const std
                        "must be two positive pixel counts");
   }
   if (node[camera_model_key]) {
-    const std::string projection = Scalar(node, camera_model_key, path);
+    const std::string projection = ScalarText(node, camera_model_key, path);
     if (projection != "pinhole")
       throw InputError(path, Line(node[camera_model_key]), prefix + camera_model_key,
                        "'" + projection + "' is not supported (only pinhole)");
@@ -55,7 +55,7 @@ CameraModel MakeModel(const YAML::Node& node, const std::string& path, const std
   DistortionModel model = DistortionModel::kNone;
   std::array<double, 4> coefficients{0, 0, 0, 0};
   if (node[distortion_model_key]) {
-    std::string name = Scalar(node, distortion_model_key, path);
+    std::string name = ScalarText(node, distortion_model_key, path);
     // yac appends the coefficient count: radtan4, equi4.
     if (name == "radtan4") name = "radtan";
     if (name == "equi4") name = "equi";

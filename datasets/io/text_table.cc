@@ -9,17 +9,11 @@
 
 #include "core/errors.h"
 #include "core/physical_limits.h"
+#include "core/text.h"
 
 namespace mavloc {
 
 namespace {
-
-std::string Trim(const std::string& text) {
-  const auto begin = text.find_first_not_of(" \t\r\n");
-  if (begin == std::string::npos) return "";
-  const auto end = text.find_last_not_of(" \t\r\n");
-  return text.substr(begin, end - begin + 1);
-}
 
 std::vector<std::string> Split(const std::string& line, Separator separator) {
   std::vector<std::string> fields;

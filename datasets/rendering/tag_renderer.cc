@@ -61,20 +61,20 @@ class FamilyHandle {
 };
 
 // Smooth value noise in [-1, 1] on a unit lattice (deterministic hash of the lattice point).
-double LatticeValue(int64_t i, int64_t j, uint64_t salt) {
+double TextureLatticeValue(int64_t i, int64_t j, uint64_t salt) {
   const uint64_t h = SplitMix64(static_cast<uint64_t>(i) * 0x9E3779B97F4A7C15ull ^
                                 SplitMix64(static_cast<uint64_t>(j) + salt));
   return static_cast<double>(h >> 11) * (2.0 / 9007199254740992.0) - 1.0;
 }
 
-double ValueNoise(double x, double y, uint64_t salt) {
+double TextureNoise(double x, double y, uint64_t salt) {
   const double fx = std::floor(x), fy = std::floor(y);
   const int64_t i = static_cast<int64_t>(fx), j = static_cast<int64_t>(fy);
   double sx = x - fx, sy = y - fy;
   sx = sx * sx * (3.0 - 2.0 * sx);
   sy = sy * sy * (3.0 - 2.0 * sy);
-  const double a = LatticeValue(i, j, salt), b = LatticeValue(i + 1, j, salt);
-  const double c = LatticeValue(i, j + 1, salt), d = LatticeValue(i + 1, j + 1, salt);
+  const double a = TextureLatticeValue(i, j, salt), b = TextureLatticeValue(i + 1, j, salt);
+  const double c = TextureLatticeValue(i, j + 1, salt), d = TextureLatticeValue(i + 1, j + 1, salt);
   return (a * (1 - sx) + b * sx) * (1 - sy) + (c * (1 - sx) + d * sx) * sy;
 }
 
@@ -197,9 +197,9 @@ double TagRenderer::FloorGrey(double x_W, double y_W) const {
 
 double TagRenderer::FloorGreyProcedural(double x_W, double y_W) const {
   // Concrete-like: two octaves of value noise, and darker grout lines every metre (1.5 cm wide).
-  double g =
-      options_.floor_grey + options_.floor_contrast * (0.7 * ValueNoise(x_W / 0.35, y_W / 0.35, 1) +
-                                                       0.3 * ValueNoise(x_W / 0.06, y_W / 0.06, 2));
+  double g = options_.floor_grey +
+             options_.floor_contrast * (0.7 * TextureNoise(x_W / 0.35, y_W / 0.35, 1) +
+                                        0.3 * TextureNoise(x_W / 0.06, y_W / 0.06, 2));
   const double fx = x_W - std::round(x_W), fy = y_W - std::round(y_W);
   if (std::abs(fx) < 0.0075 || std::abs(fy) < 0.0075) g *= 0.6;
   return std::clamp(g, 0.0, 1.0);

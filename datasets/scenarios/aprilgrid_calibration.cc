@@ -26,10 +26,10 @@ namespace mavloc {
 
 namespace {
 
-const char* kName = "aprilgrid-calibration";
-constexpr int kDegree = 5;
+const char* kAprilgridCalibration = "aprilgrid-calibration";
+constexpr int kCalibrationSplineDegree = 5;
 
-struct Settings {
+struct CalibrationSettings {
   double pixel_noise_px = 0.3;
   bool imu_noise = true;
   bool bias = true;
@@ -48,13 +48,14 @@ struct Settings {
   bool stereo = true;
 };
 
-Settings ReadSettings(const ScenarioOptions& options) {
+CalibrationSettings ReadCalibrationSettings(const ScenarioOptions& options) {
   options.RejectUnknownSettings(
-      kName, {"pixel_noise_px", "imu_noise", "bias", "time_offset_ms", "extrinsics_error_m",
-              "extrinsics_error_deg", "board_roll_deg", "board_pitch_deg", "distance_m",
-              "distance_amplitude_m", "target_amplitude_m", "rotation_amplitude_deg",
-              "control_interval_s", "camera_rate_hz", "imu_rate_hz", "stereo"});
-  Settings s;
+      kAprilgridCalibration,
+      {"pixel_noise_px", "imu_noise", "bias", "time_offset_ms", "extrinsics_error_m",
+       "extrinsics_error_deg", "board_roll_deg", "board_pitch_deg", "distance_m",
+       "distance_amplitude_m", "target_amplitude_m", "rotation_amplitude_deg", "control_interval_s",
+       "camera_rate_hz", "imu_rate_hz", "stereo"});
+  CalibrationSettings s;
   s.pixel_noise_px = options.GetDouble("pixel_noise_px", s.pixel_noise_px);
   s.imu_noise = options.GetBool("imu_noise", s.imu_noise);
   s.bias = options.GetBool("bias", s.bias);
@@ -82,7 +83,7 @@ Settings ReadSettings(const ScenarioOptions& options) {
       s.imu_rate_hz <= 2000.0;
   if (!valid)
     throw InputError(
-        std::string("scenario ") + kName +
+        std::string("scenario ") + kAprilgridCalibration +
         ": need pixel_noise_px >= 0, |time_offset_ms| <= 50, extrinsics errors >= 0, "
         "|board_pitch_deg| < 80, |board_roll_deg| <= 180, distance_m - distance_amplitude_m >= "
         "0.25, amplitudes >= 0, rotation_amplitude_deg <= 60, 0.05 <= control_interval_s <= 1, "
@@ -108,7 +109,7 @@ void EulerRates(const Eigen::Vector3d& a, const Eigen::Vector3d& ad, const Eigen
 // the board plane, distance offset), mapped to cam0 and then to the body, in W.
 class CalibrationMotion : public Trajectory {
  public:
-  CalibrationMotion(TimeNs start_ns, double duration_s, const Settings& s,
+  CalibrationMotion(TimeNs start_ns, double duration_s, const CalibrationSettings& s,
                     const Eigen::Matrix3d& R_W_M, const Eigen::Vector3d& board_centre_M,
                     const Pose& T_B_C0, uint64_t motion_seed)
       : start_ns_(start_ns),
@@ -121,9 +122,10 @@ class CalibrationMotion : public Trajectory {
     // sinusoids per component (frequencies in [0.15, 0.6] Hz, random phases, amplitudes 0.6 and
     // 0.4 of the component's): a smooth, non-periodic motion that reaches most of its amplitude.
     const double h = s.control_interval_s;
-    const double t0 = -0.5 - kDegree * h;
-    const int segments = static_cast<int>(std::ceil((duration_s + 1.0 + 2.0 * kDegree * h) / h));
-    const int n = segments + kDegree;
+    const double t0 = -0.5 - kCalibrationSplineDegree * h;
+    const int segments =
+        static_cast<int>(std::ceil((duration_s + 1.0 + 2.0 * kCalibrationSplineDegree * h) / h));
+    const int n = segments + kCalibrationSplineDegree;
     Rng rng(motion_seed);
     const double tilt = s.rotation_amplitude_rad / 1.2;
     const Eigen::Matrix<double, 6, 1> amplitude =
@@ -139,12 +141,12 @@ class CalibrationMotion : public Trajectory {
       }
       for (int j = 0; j < n; ++j) {
         // Control point j shapes segments j - K .. j: centred at t0 + (j - (K - 1) / 2) h.
-        const double t = t0 + (j - 0.5 * (kDegree - 1)) * h;
+        const double t = t0 + (j - 0.5 * (kCalibrationSplineDegree - 1)) * h;
         control(r, j) = amplitude[r] * (0.6 * std::sin(2.0 * M_PI * f[0] * t + phase[0]) +
                                         0.4 * std::sin(2.0 * M_PI * f[1] * t + phase[1]));
       }
     }
-    spline_ = std::make_unique<UniformBSpline>(kDegree, t0, h, control);
+    spline_ = std::make_unique<UniformBSpline>(kCalibrationSplineDegree, t0, h, control);
   }
 
   TimeNs start_ns() const override { return start_ns_; }
@@ -281,8 +283,9 @@ Pose EurocCameraExtrinsic(int camera_index) {
 Dataset GenerateAprilgridCalibration(const ScenarioOptions& options) {
   const double duration_s = options.duration_s.value_or(30.0);
   if (!(duration_s >= 3.0))
-    throw InputError(std::string("scenario ") + kName + ": --duration must be >= 3 s");
-  const Settings s = ReadSettings(options);
+    throw InputError(std::string("scenario ") + kAprilgridCalibration +
+                     ": --duration must be >= 3 s");
+  const CalibrationSettings s = ReadCalibrationSettings(options);
   const SimulationSeeds seeds = SimulationSeeds::FromMaster(options.seed);
 
   AprilgridTarget target;
@@ -305,8 +308,8 @@ Dataset GenerateAprilgridCalibration(const ScenarioOptions& options) {
                                  seeds.motion);
 
   Dataset d;
-  d.name = kName;
-  d.scenario = kName;
+  d.name = kAprilgridCalibration;
+  d.scenario = kAprilgridCalibration;
   d.map.frame = MapFrame::kBoard;
   d.map.tags = AprilgridTags(target);
 
@@ -353,8 +356,8 @@ Dataset GenerateAprilgridCalibration(const ScenarioOptions& options) {
     const std::string folder = !options.image_dir.empty()
                                    ? options.image_dir
                                    : (std::filesystem::temp_directory_path() /
-                                      fmt::format("mavloc_render_{}_{}_{}", kName, options.seed,
-                                                  static_cast<long>(getpid())))
+                                      fmt::format("mavloc_render_{}_{}_{}", kAprilgridCalibration,
+                                                  options.seed, static_cast<long>(getpid())))
                                          .string();
     std::error_code error;
     CreateOutputDirectories(folder, error);
@@ -375,8 +378,8 @@ Dataset GenerateAprilgridCalibration(const ScenarioOptions& options) {
         if (!cv::imwrite(frame.image_path, image))
           throw InputError(frame.image_path, 0, "", "cannot write rendered image");
         if (i % 50 == 0)
-          ReportProgress("render", fmt::format("{} cam{} frame {}/{}", kName, c, i + 1,
-                                               d.cameras[c].frames.size()));
+          ReportProgress("render", fmt::format("{} cam{} frame {}/{}", kAprilgridCalibration, c,
+                                               i + 1, d.cameras[c].frames.size()));
       }
     }
   }

@@ -19,13 +19,13 @@ namespace mavloc {
 
 namespace {
 
-constexpr const char* kName = "euroc-laser";
+constexpr const char* kEurocLaser = "euroc-laser";
 constexpr const char* kRelativeData = "../shared/data/euroc_v1_01_easy";
 
-void RejectUnknownSettings(const ScenarioOptions& options) {
+void RejectUnknownEurocLaserSettings(const ScenarioOptions& options) {
   static const std::set<std::string> kKnown = {
       "data", "alpha_deg", "L", "clearance_m", "camera_rate_hz", "bearing_noise_deg", "imu"};
-  options.RejectUnknownSettings(kName, kKnown);
+  options.RejectUnknownSettings(kEurocLaser, kKnown);
 }
 
 std::vector<std::filesystem::path> CandidateDataPaths() {
@@ -94,8 +94,8 @@ std::string FindDefaultEurocLaserData() {
 }
 
 Dataset GenerateEurocLaser(const ScenarioOptions& options) {
-  RejectUnknownSettings(options);
-  const std::string prefix = fmt::format("scenario {}: ", kName);
+  RejectUnknownEurocLaserSettings(options);
+  const std::string prefix = fmt::format("scenario {}: ", kEurocLaser);
   std::string data = options.GetString("data", "");
   if (data.empty()) {
     data = FindDefaultEurocLaserData();
@@ -130,8 +130,8 @@ Dataset GenerateEurocLaser(const ScenarioOptions& options) {
   if (poses.size() < 10) throw InputError(tum_path, 0, "", prefix + "too few poses");
 
   Dataset d;
-  d.name = kName;
-  d.scenario = kName;
+  d.name = kEurocLaser;
+  d.scenario = kEurocLaser;
   d.root = "";
   d.imu = euroc.imu;
   // Ground truth: T_W_B from the TUM file (B = imu0), v by central differences over +-2 rows.
@@ -186,7 +186,7 @@ Dataset GenerateEurocLaser(const ScenarioOptions& options) {
                       plane, bearing_noise_deg * kDeg, seeds.camera, &d);
   d.cameras.push_back(cam0);
   d.scenario_info = {
-      {"scenario", kName},
+      {"scenario", kEurocLaser},
       {"seed", std::to_string(options.seed)},
       {"paper", "Martinelli & Troiani, INRIA RR-7906, 2012, section 5.2"},
       {"data", data},

@@ -17,9 +17,9 @@ namespace mavloc {
 
 namespace {
 
-constexpr const char* kName = "laser-plane";
+constexpr const char* kLaserPlane = "laser-plane";
 
-void RejectUnknownSettings(const ScenarioOptions& options) {
+void RejectUnknownLaserPlaneSettings(const ScenarioOptions& options) {
   static const std::set<std::string> kKnown = {"alpha_deg",          "L",
                                                "distance_m",         "speed_m_s",
                                                "sigma_accel",        "sigma_rate_deg_s",
@@ -28,7 +28,7 @@ void RejectUnknownSettings(const ScenarioOptions& options) {
                                                "accel_sigma_m_s2",   "bias",
                                                "gyro_bias_deg_s",    "accel_bias_m_s2",
                                                "camera_rate_hz",     "bearing_noise_deg"};
-  options.RejectUnknownSettings(kName, kKnown);
+  options.RejectUnknownSettings(kLaserPlane, kKnown);
 }
 
 }  // namespace
@@ -104,7 +104,7 @@ LaserStreamsSummary AddLaserStreams(const std::function<Pose(TimeNs)>& T_W_B_at,
 }
 
 Dataset GenerateLaserPlane(const ScenarioOptions& options) {
-  RejectUnknownSettings(options);
+  RejectUnknownLaserPlaneSettings(options);
   const double alpha_deg = options.GetDouble("alpha_deg", 22.5);
   const double L = options.GetDouble("L", 0.3);
   const double distance_m = options.GetDouble("distance_m", 1.0);
@@ -123,7 +123,7 @@ Dataset GenerateLaserPlane(const ScenarioOptions& options) {
   const double bearing_noise_deg = options.GetDouble("bearing_noise_deg", 1.0);
   const double duration_s = options.duration_s.value_or(60.0);
 
-  const std::string prefix = fmt::format("scenario {}: ", kName);
+  const std::string prefix = fmt::format("scenario {}: ", kLaserPlane);
   if (!(alpha_deg >= 0.0 && alpha_deg < 90.0)) throw InputError(prefix + "alpha_deg in [0, 90)");
   if (!(L > 0.0 && distance_m > L)) throw InputError(prefix + "need 0 < L < distance_m");
   if (!(duration_s > 0.0 && imu_rate_hz > 0.0 && camera_rate_hz > 0.0 && correlation_time_s > 0.0))
@@ -154,8 +154,8 @@ Dataset GenerateLaserPlane(const ScenarioOptions& options) {
   const RandomMotionTrajectory trajectory(motion, seeds.motion);
 
   Dataset d;
-  d.scenario = kName;
-  d.name = kName;
+  d.scenario = kLaserPlane;
+  d.name = kLaserPlane;
   ImuSimulationOptions imu_options;
   imu_options.rate_hz = imu_rate_hz;
   imu_options.noise =
@@ -184,7 +184,7 @@ Dataset GenerateLaserPlane(const ScenarioOptions& options) {
                       plane, bearing_noise_deg * kDeg, seeds.camera, &d);
   d.cameras.push_back(cam0);
   d.scenario_info = {
-      {"scenario", kName},
+      {"scenario", kLaserPlane},
       {"seed", std::to_string(options.seed)},
       {"paper", "Martinelli & Troiani, INRIA RR-7906, 2012, section 5.1"},
       {"duration_s", fmt::format("{}", duration_s)},

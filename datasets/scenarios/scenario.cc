@@ -7,6 +7,7 @@
 
 #include "core/errors.h"
 #include "core/key_values.h"
+#include "core/text.h"
 
 namespace mavloc {
 
@@ -23,11 +24,6 @@ std::string JoinKeys(const std::set<std::string>& keys) {
   std::string names;
   for (const auto& k : keys) names += (names.empty() ? "" : ", ") + k;
   return names.empty() ? "none" : names;
-}
-
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 }  // namespace

@@ -21,12 +21,12 @@
 namespace mavloc {
 namespace {
 
-constexpr double kImuRateHz = 200.0;
+constexpr double kObstacleImuRateHz = 200.0;
 constexpr double kBaselineM = 0.05;
 constexpr double kFocalPx = 645.0;
 constexpr TimeNs kPathSampleNs = kNsPerSecond / 100;  // path sampling for obstacle placement
 
-struct Settings {
+struct ObstacleSettings {
   double camera_rate_hz = 5.0;
   double image_noise_grey = 2.0;
   std::string image_dir;
@@ -73,8 +73,8 @@ const std::vector<ObstacleSpec>& ObstacleSpecs() {
   return kSpecs;
 }
 
-Settings ReadSettings(const ScenarioOptions& options) {
-  Settings s;
+ObstacleSettings ReadObstacleSettings(const ScenarioOptions& options) {
+  ObstacleSettings s;
   s.camera_rate_hz = options.GetDouble("camera_rate_hz", s.camera_rate_hz);
   s.image_noise_grey = options.GetDouble("image_noise_grey", s.image_noise_grey);
   s.image_dir = options.GetString("image_dir", options.image_dir);
@@ -131,8 +131,8 @@ RoomObstacle PlaceObstacle(const ObstacleSpec& spec, const Trajectory& trajector
   return at_offset(hi);
 }
 
-void RenderFrames(const Dataset& d, const StereoRoom& room, const Settings& settings, uint64_t seed,
-                  uint64_t camera_seed, const std::vector<Pose>& T_W_B_frames,
+void RenderFrames(const Dataset& d, const StereoRoom& room, const ObstacleSettings& settings,
+                  uint64_t seed, uint64_t camera_seed, const std::vector<Pose>& T_W_B_frames,
                   std::vector<CameraSensor>* cameras) {
   std::string folder = settings.image_dir;
   if (folder.empty()) {
@@ -193,7 +193,7 @@ Dataset GenerateStereoObstacles(const ScenarioOptions& options) {
   // The spline rests about 1.5 s at each end and needs 2 s of waypoints in between.
   if (!(duration_s >= 5.0 && duration_s <= 600.0))
     throw InputError("scenario " + name + ": --duration must be in [5, 600] s");
-  const Settings settings = ReadSettings(options);
+  const ObstacleSettings settings = ReadObstacleSettings(options);
   const SimulationSeeds seeds = SimulationSeeds::FromMaster(options.seed);
 
   // S-shaped path along x, heading along the direction of travel. The spline holds the vehicle at
@@ -223,7 +223,7 @@ Dataset GenerateStereoObstacles(const ScenarioOptions& options) {
   d.scenario = name;
 
   ImuSimulationOptions imu_options;
-  imu_options.rate_hz = kImuRateHz;
+  imu_options.rate_hz = kObstacleImuRateHz;
   if (settings.imu_noise) {
     imu_options.noise = {3.3937e-4, 3.8785e-5, 4.0e-3, 6.0e-3};  // ADIS16448 (RotorS)
     imu_options.bias_random_walk = true;
@@ -263,7 +263,7 @@ Dataset GenerateStereoObstacles(const ScenarioOptions& options) {
   d.scenario_info = {
       {"seed", std::to_string(options.seed)},
       {"duration_s", fmt::format("{}", NsToSeconds(trajectory->end_ns() - trajectory->start_ns()))},
-      {"imu_rate_hz", fmt::format("{}", kImuRateHz)},
+      {"imu_rate_hz", fmt::format("{}", kObstacleImuRateHz)},
       {"imu_noise", settings.imu_noise ? "ADIS16448 densities, bias random walk" : "none"},
       {"camera_rate_hz", fmt::format("{}", settings.camera_rate_hz)},
       {"stereo", fmt::format("640x480, f {} px, baseline {} m, cam1 toe-in {} deg", kFocalPx,

@@ -24,7 +24,7 @@ namespace mavloc {
 namespace {
 
 constexpr double kTagSizeM = 0.20;
-constexpr double kImuRateHz = 100.0;
+constexpr double kTagArenaImuRateHz = 100.0;
 constexpr double kCameraRateHz = 10.0;
 
 struct ArenaSettings {
@@ -124,7 +124,7 @@ Dataset BuildArena(const std::string& scenario, const ScenarioOptions& options,
   d.map.tags = TagArenaTags();
 
   ImuSimulationOptions imu_options;
-  imu_options.rate_hz = kImuRateHz;
+  imu_options.rate_hz = kTagArenaImuRateHz;
   if (settings.imu_noise) {
     // RotorS ADIS16448 model (the simulator of the paper): gyro 3.3937e-4 rad/s/sqrt(Hz),
     // 3.8785e-5 rad/s^2/sqrt(Hz); accelerometer 4.0e-3 m/s^2/sqrt(Hz), 6.0e-3 m/s^3/sqrt(Hz).
@@ -152,7 +152,7 @@ Dataset BuildArena(const std::string& scenario, const ScenarioOptions& options,
   d.scenario_info = {
       {"seed", std::to_string(options.seed)},
       {"duration_s", fmt::format("{}", NsToSeconds(trajectory.end_ns() - trajectory.start_ns()))},
-      {"imu_rate_hz", fmt::format("{}", kImuRateHz)},
+      {"imu_rate_hz", fmt::format("{}", kTagArenaImuRateHz)},
       {"camera_rate_hz", fmt::format("{}", kCameraRateHz)},
       {"camera_offset_s", fmt::format("{}", settings.camera_offset_s)},
       {"processing_delay_s", fmt::format("{}", settings.processing_delay_s)},

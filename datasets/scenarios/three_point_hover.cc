@@ -16,9 +16,9 @@ namespace mavloc {
 
 namespace {
 
-constexpr const char* kName = "three-point-hover";
+constexpr const char* kThreePointHover = "three-point-hover";
 
-void RejectUnknownSettings(const ScenarioOptions& options) {
+void RejectUnknownThreePointSettings(const ScenarioOptions& options) {
   static const std::set<std::string> kKnown = {"D",
                                                "p3_x",
                                                "p3_y",
@@ -39,7 +39,7 @@ void RejectUnknownSettings(const ScenarioOptions& options) {
                                                "accel_bias_m_s2",
                                                "camera_period_s",
                                                "bearing_noise_deg"};
-  options.RejectUnknownSettings(kName, kKnown);
+  options.RejectUnknownSettings(kThreePointHover, kKnown);
 }
 
 // The down-looking camera: x_C = x_B, y_C = -y_B, z_C = -z_B, 3 cm below the IMU.
@@ -53,14 +53,14 @@ CameraSensor DownLookingCamera(double period_s) {
   return cam0;
 }
 
-std::string Vec(const Eigen::Vector3d& v) {
+std::string FormatVec(const Eigen::Vector3d& v) {
   return fmt::format("[{:.4f}, {:.4f}, {:.4f}]", v.x(), v.y(), v.z());
 }
 
 }  // namespace
 
 Dataset GenerateThreePointHover(const ScenarioOptions& options) {
-  RejectUnknownSettings(options);
+  RejectUnknownThreePointSettings(options);
   const double D = options.GetDouble("D", 0.1);
   const Eigen::Vector3d P1(0.0, 0.0, 0.0);
   const Eigen::Vector3d P2(D, 0.0, 0.0);
@@ -87,7 +87,7 @@ Dataset GenerateThreePointHover(const ScenarioOptions& options) {
   const double camera_period_s = options.GetDouble("camera_period_s", 0.3);
   const double bearing_noise_deg = options.GetDouble("bearing_noise_deg", 1.0);
 
-  const std::string prefix = fmt::format("scenario {}: ", kName);
+  const std::string prefix = fmt::format("scenario {}: ", kThreePointHover);
   if (!(D > 0.0)) throw InputError(prefix + "D must be > 0");
   if (!(std::abs(P3.y()) > 1e-6 * D))
     throw InputError(prefix + "P3 must not lie on the line P1 P2 (p3_y != 0)");
@@ -112,8 +112,8 @@ Dataset GenerateThreePointHover(const ScenarioOptions& options) {
       SplineTrajectory::FromWaypoints(kScenarioStartNs, waypoints, AttitudeMode::kQuadrotor);
 
   Dataset d;
-  d.scenario = kName;
-  d.name = kName;
+  d.scenario = kThreePointHover;
+  d.name = kThreePointHover;
 
   ImuSimulationOptions imu_options;
   imu_options.rate_hz = imu_rate_hz;
@@ -149,16 +149,17 @@ Dataset GenerateThreePointHover(const ScenarioOptions& options) {
   d.cameras.push_back(cam0);
 
   d.scenario_info = {
-      {"scenario", kName},
+      {"scenario", kThreePointHover},
       {"seed", std::to_string(options.seed)},
       {"paper", "Troiani, Al Zanati, Martinelli, ECMR 2013, sect. V-A"},
       {"duration_s", fmt::format("{}", NsToSeconds(trajectory->end_ns() - trajectory->start_ns()))},
-      {"features", fmt::format("P1 = {}, P2 = {}, P3 = {} m (D = {} m, gamma1 = {:.4f} deg, "
-                               "gamma2 = {:.4f} deg)",
-                               Vec(P1), Vec(P2), Vec(P3), D, gamma1 / kDeg, gamma2 / kDeg)},
-      {"start", fmt::format("p = {} m, yaw = {} deg, at rest until t = {} s", Vec(start),
+      {"features",
+       fmt::format("P1 = {}, P2 = {}, P3 = {} m (D = {} m, gamma1 = {:.4f} deg, "
+                   "gamma2 = {:.4f} deg)",
+                   FormatVec(P1), FormatVec(P2), FormatVec(P3), D, gamma1 / kDeg, gamma2 / kDeg)},
+      {"start", fmt::format("p = {} m, yaw = {} deg, at rest until t = {} s", FormatVec(start),
                             start_yaw_deg, move_start_s)},
-      {"goal", fmt::format("p = {} m, yaw = {} deg, reached at t = {} s and held", Vec(goal),
+      {"goal", fmt::format("p = {} m, yaw = {} deg, reached at t = {} s and held", FormatVec(goal),
                            goal_yaw_deg, move_end_s)},
       {"start_goal_choice",
        "the paper does not state them; chosen to keep the three features in view (start above "

@@ -11,8 +11,9 @@ namespace mavloc {
 
 namespace {
 
-constexpr int kDegree = 5;                  // quintic: C^4 position, C^2 acceleration
-constexpr int kCentre = (kDegree - 1) / 2;  // the curve at knot i lies near control point i + 2
+constexpr int kRandomMotionDegree = 5;  // quintic: C^4 position, C^2 acceleration
+constexpr int kCentre =
+    (kRandomMotionDegree - 1) / 2;  // the curve at knot i lies near control point i + 2
 
 struct ProcessState {
   Eigen::Vector3d p_W, v_W;
@@ -34,9 +35,9 @@ RandomMotionTrajectory::RandomMotionTrajectory(const RandomMotionOptions& option
   const int steps_per_control = static_cast<int>(std::lround(options.smoothing_spacing_s / dt));
   const double h = steps_per_control * dt;
   // Control point j is the process at time (j - kCentre) h; the spline covers [0, duration] when
-  // num_control - kDegree segments reach past the end.
+  // num_control - kRandomMotionDegree segments reach past the end.
   const int num_segments = static_cast<int>(std::ceil(options.duration_s / h));
-  const int num_control = num_segments + kDegree;
+  const int num_control = num_segments + kRandomMotionDegree;
   const Eigen::Matrix3d R_W_P = options.q_W_P.toRotationMatrix();
   const Eigen::Matrix3d R_P_B_ref = options.q_P_B_ref.toRotationMatrix();
   const Eigen::Matrix3d R_W_B_ref = R_W_P * R_P_B_ref;
@@ -83,15 +84,15 @@ RandomMotionTrajectory::RandomMotionTrajectory(const RandomMotionOptions& option
   // Exact start velocity v(0) = v0: the control points before the start (which only shape the
   // curve near t = 0) move together by delta; v(0) is linear in them, with gain g per metre.
   {
-    const UniformBSpline before(kDegree, 0.0, h, position_control);
+    const UniformBSpline before(kRandomMotionDegree, 0.0, h, position_control);
     Eigen::MatrixXd unit = Eigen::MatrixXd::Zero(1, num_control);
     unit.leftCols(kCentre).setOnes();
-    const double g = UniformBSpline(kDegree, 0.0, h, unit).Evaluate(0.0, 1)[0];
+    const double g = UniformBSpline(kRandomMotionDegree, 0.0, h, unit).Evaluate(0.0, 1)[0];
     const Eigen::Vector3d delta = (R_W_P * options.v0_P - before.Evaluate(0.0, 1)) / g;
     position_control.leftCols(kCentre).colwise() += delta;
   }
-  position_ = std::make_unique<UniformBSpline>(kDegree, 0.0, h, position_control);
-  rotation_ = std::make_unique<UniformBSpline>(kDegree, 0.0, h, rotation_control);
+  position_ = std::make_unique<UniformBSpline>(kRandomMotionDegree, 0.0, h, position_control);
+  rotation_ = std::make_unique<UniformBSpline>(kRandomMotionDegree, 0.0, h, rotation_control);
 
   // Exact start position and attitude: p(0) = p0, R(0) = R_W_B_ref (constant offsets).
   position_offset_W_ = R_W_P * options.p0_P - Eigen::Vector3d(position_->Evaluate(0.0, 0));

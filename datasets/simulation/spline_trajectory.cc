@@ -11,7 +11,7 @@ namespace mavloc {
 
 namespace {
 
-constexpr int kDegree = 5;  // quintic: C^4, smooth jerk, so the quadrotor attitude is C^2
+constexpr int kSplineDegree = 5;  // quintic: C^4, smooth jerk, so the quadrotor attitude is C^2
 
 // d/dt of v/|v| given v and dv/dt.
 Eigen::Vector3d NormalizedDerivative(const Eigen::Vector3d& v, const Eigen::Vector3d& dv) {
@@ -69,24 +69,24 @@ std::unique_ptr<SplineTrajectory> SplineTrajectory::FromWaypoints(
   const double t_first = times.front(), t_last = times.back();
   const int interior =
       std::max(0, static_cast<int>(std::ceil((t_last - t_first) / control_dt_s)) - 1);
-  const int n = 2 * (kDegree + 1) + interior;
+  const int n = 2 * (kSplineDegree + 1) + interior;
   Eigen::MatrixXd cp_position(3, n), cp_angles(angles.front().size(), n);
   for (int c = 0; c < n; ++c) {
     // The path is sampled at the Greville abscissa of control point c, t_first + (c - (K-1)/2) dt,
     // where c has its largest weight; the first and last K+1 points are then pinned (at rest).
-    const double t_c = t_first + (c - 0.5 * (kDegree - 1)) * control_dt_s;
+    const double t_c = t_first + (c - 0.5 * (kSplineDegree - 1)) * control_dt_s;
     cp_position.col(c) = InterpolateWaypoints(positions, times, t_c);
     cp_angles.col(c) = InterpolateWaypoints(angles, times, t_c);
   }
-  for (int c = 0; c <= kDegree; ++c) {
+  for (int c = 0; c <= kSplineDegree; ++c) {
     cp_position.col(c) = positions.front();
     cp_angles.col(c) = angles.front();
     cp_position.col(n - 1 - c) = positions.back();
     cp_angles.col(n - 1 - c) = angles.back();
   }
   // Valid interval of the spline: [t_first, t_first + (n - K) dt].
-  UniformBSpline position(kDegree, t_first, control_dt_s, cp_position);
-  UniformBSpline attitude(kDegree, t_first, control_dt_s, cp_angles);
+  UniformBSpline position(kSplineDegree, t_first, control_dt_s, cp_position);
+  UniformBSpline attitude(kSplineDegree, t_first, control_dt_s, cp_angles);
   return std::make_unique<SplineTrajectory>(t0_ns, std::move(position), std::move(attitude), mode);
 }
 

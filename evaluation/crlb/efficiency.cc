@@ -4,13 +4,13 @@
 #include <cmath>
 #include <limits>
 
+#include "core/numbers.h"
 #include "core/rotation.h"
 #include "evaluation/json_number.h"
 
 namespace mavloc {
 
 namespace {
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 double Ratio(double a, double b) { return b > 0.0 ? std::sqrt(a / b) : kNaN; }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <limits>
 
+#include "core/numbers.h"
 #include "core/rotation.h"
 #include "evaluation/crlb/laser_bound.h"
 #include "evaluation/json_number.h"
@@ -12,8 +13,6 @@
 namespace mavloc {
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 const QuantityEfficiency* Find(const LaserEfficiencySums& s, const std::string& name) {
   auto it = s.quantities.find(name);

@@ -19,25 +19,6 @@ namespace {
 
 constexpr TimeNs kAttachToleranceNs = 1'000'000;  // the smoother's: 1 ms
 
-// The true state at t_ns: ground truth interpolated linearly (slerp for the attitude).
-GroundTruthState TruthAt(const std::vector<GroundTruthState>& gt, TimeNs t_ns) {
-  auto it = std::lower_bound(gt.begin(), gt.end(), t_ns,
-                             [](const GroundTruthState& s, TimeNs t) { return s.t_ns < t; });
-  if (it == gt.begin()) return gt.front();
-  if (it == gt.end()) return gt.back();
-  const GroundTruthState& b = *it;
-  const GroundTruthState& a = *std::prev(it);
-  if (b.t_ns == a.t_ns) return b;
-  const double s = static_cast<double>(t_ns - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns);
-  GroundTruthState out;
-  out.t_ns = t_ns;
-  out.T_W_B = Pose(a.T_W_B.q.slerp(s, b.T_W_B.q).normalized(), (1 - s) * a.T_W_B.p + s * b.T_W_B.p);
-  out.v_W = (1 - s) * a.v_W + s * b.v_W;
-  out.b_g = (1 - s) * a.b_g + s * b.b_g;
-  out.b_a = (1 - s) * a.b_a + s * b.b_a;
-  return out;
-}
-
 ImuNoise WithFloor(const ImuNoise& noise, const ImuNoise& floor) {
   return {std::max(noise.gyroscope_noise_density, floor.gyroscope_noise_density),
           std::max(noise.gyroscope_random_walk, floor.gyroscope_random_walk),
@@ -67,7 +48,7 @@ void ImuTransition(const Dataset& dataset, const ImuNoise& noise, TimeNs t0, Tim
     if (held + 1 < samples.size() && samples[held + 1].t_ns < t1 && samples[held + 1].t_ns > a)
       b = samples[held + 1].t_ns;
     const double h = NsToSeconds(b - a);
-    const GroundTruthState truth = TruthAt(dataset.ground_truth, a);
+    const GroundTruthState truth = InterpolatedTruth(dataset.ground_truth, a);
     const Eigen::Matrix3d R = truth.T_W_B.R();
     Eigen::Vector3d w = samples[held].gyro_rad_s - truth.b_g;
     Eigen::Vector3d f = samples[held].accel_m_s2 - truth.b_a;
@@ -75,7 +56,7 @@ void ImuTransition(const Dataset& dataset, const ImuNoise& noise, TimeNs t0, Tim
     if (true_rates) {
       // The exact increments of the true motion: R_b = R_a Exp(w h),
       // v_b - v_a - g h = R_a f h, p_b - p_a - v_a h - g h^2 / 2 = R_a f_p h^2 / 2.
-      const GroundTruthState end = TruthAt(dataset.ground_truth, b);
+      const GroundTruthState end = InterpolatedTruth(dataset.ground_truth, b);
       w = LogSO3(R.transpose() * end.T_W_B.R()) / h;
       f = R.transpose() * ((end.v_W - truth.v_W) / h - GravityW());
       f_p = R.transpose() *
@@ -259,7 +240,7 @@ SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset, const EstimatorOptions&
   MarkovInformation info;
   info.node.assign(n, Eigen::MatrixXd::Zero(15, 15));
   std::vector<GroundTruthState> truth(n);
-  for (int k = 0; k < n; ++k) truth[k] = TruthAt(dataset.ground_truth, times[k]);
+  for (int k = 0; k < n; ++k) truth[k] = InterpolatedTruth(dataset.ground_truth, times[k]);
 
   std::optional<LaserSpotModel> laser;
   if (laser_only) {

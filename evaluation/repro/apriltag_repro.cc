@@ -13,6 +13,7 @@
 
 #include "core/errors.h"
 #include "core/key_values.h"
+#include "core/numbers.h"
 #include "core/progress.h"
 #include "core/random.h"
 #include "core/rotation.h"
@@ -31,8 +32,7 @@ namespace {
 using Settings = std::map<std::string, std::string>;
 using Clock = std::chrono::steady_clock;
 
-constexpr int kDefaultRuns = 100;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr int kAprilTagDefaultRuns = 100;
 // The paper's dynamic-tracking peaks (V-C).
 constexpr double kPaperPositionPeakM = 0.05;
 constexpr double kPaperVelocityPeakMs = 0.06;
@@ -60,22 +60,6 @@ double ChiSquareQuantile(double k, double z) {
   return k * std::pow(1.0 - a + z * std::sqrt(a), 3);
 }
 constexpr double kZ975 = 1.959963984540054;
-
-// The ground-truth state at t (truth at the IMU stamps; interpolated between them).
-GroundTruthState TruthAt(const std::vector<GroundTruthState>& truth, TimeNs t) {
-  auto it = std::lower_bound(truth.begin(), truth.end(), t,
-                             [](const GroundTruthState& s, TimeNs x) { return s.t_ns < x; });
-  if (it == truth.end()) return truth.back();
-  if (it->t_ns == t || it == truth.begin()) return *it;
-  const GroundTruthState& a = *std::prev(it);
-  const GroundTruthState& b = *it;
-  const double s = static_cast<double>(t - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns);
-  GroundTruthState out = a;
-  out.t_ns = t;
-  out.T_W_B = Pose(a.T_W_B.q.slerp(s, b.T_W_B.q), (1 - s) * a.T_W_B.p + s * b.T_W_B.p);
-  out.v_W = (1 - s) * a.v_W + s * b.v_W;
-  return out;
-}
 
 struct RunningStat {
   double sum = 0.0, max = 0.0;
@@ -121,7 +105,8 @@ std::vector<TagObservation> TagsFromImages(const Dataset& d, const Settings& set
     const int n = exposure_s > 0.0 ? std::max(1, blur_samples) : 1;
     for (int k = 0; k < n; ++k) {
       const double offset = n == 1 ? 0.0 : exposure_s * ((k + 0.5) / n - 0.5);
-      poses.push_back(TruthAt(d.ground_truth, t + SecondsToNs(offset)).T_W_B * camera.T_B_C);
+      poses.push_back(InterpolatedTruth(d.ground_truth, t + SecondsToNs(offset)).T_W_B *
+                      camera.T_B_C);
     }
     auto start = Clock::now();
     const cv::Mat image = renderer.Render(poses, SplitMix64(noise_seed + 7919 * i));
@@ -131,7 +116,7 @@ std::vector<TagObservation> TagsFromImages(const Dataset& d, const Settings& set
     stats->detect_s += Elapsed(start);
     ++stats->frames;
 
-    const Pose T_C_W = (TruthAt(d.ground_truth, t).T_W_B * camera.T_B_C).Inverse();
+    const Pose T_C_W = (InterpolatedTruth(d.ground_truth, t).T_W_B * camera.T_B_C).Inverse();
     std::map<int, bool> visible;
     for (const auto& [id, tag] : d.map.tags) {
       TagInfo page = tag;
@@ -227,7 +212,7 @@ std::vector<ErrorSample> Errors(const Estimate& estimate, const Dataset& d) {
   for (size_t i = 0; i < q.size(); ++i) {
     const TimeNs t = q.t_ns[i];
     if (t < d.ground_truth.front().t_ns || t > d.ground_truth.back().t_ns) continue;
-    const GroundTruthState gt = TruthAt(d.ground_truth, t);
+    const GroundTruthState gt = InterpolatedTruth(d.ground_truth, t);
     const EulerRpy rpy = EulerFromQuaternion(gt.T_W_B.q);
     ErrorSample e;
     e.t_s = NsToSeconds(t - t0);
@@ -299,7 +284,7 @@ nlohmann::json Summary(const std::vector<double>& values) {
           {"count", finite.size()}};
 }
 
-std::string F(double v, int digits = 3) { return FormatNumber(v, digits); }
+std::string TagNumber(double v, int digits = 3) { return FormatNumber(v, digits); }
 
 }  // namespace
 
@@ -312,7 +297,7 @@ int RunAprilTagRepro(const ReproOptions& options) {
       {"hover_duration_s", "dynamic_duration_s", "images", "supersampling", "image_noise_grey",
        "exposure_s", "blur_samples", "refine_edges", "decimate", "processing_delay_s",
        "corner_noise_px", "camera_offset_s"});
-  const int runs = options.runs.value_or(kDefaultRuns);
+  const int runs = options.runs.value_or(kAprilTagDefaultRuns);
   const double hover_s = GetDoubleSetting(settings, "hover_duration_s", 10.0);
   const double dynamic_s = GetDoubleSetting(settings, "dynamic_duration_s", 40.0);
   const bool from_images = GetBoolSetting(settings, "images", true);
@@ -506,17 +491,18 @@ int RunAprilTagRepro(const ReproOptions& options) {
       const double p = has ? peak[name] : kNaN;
       entry["peak_abs_error"][name] = p;
       entry["rmse"][name] = has ? std::sqrt(sum2[name] / count[name]) : kNaN;
-      row.push_back(F(p, 4));
+      row.push_back(TagNumber(p, 4));
     }
-    row.push_back(F(errors.back().p.norm(), 3));
+    row.push_back(TagNumber(errors.back().p.norm(), 3));
     if (!e.estimate.failures.empty()) entry["failures"] = e.estimate.failures;
     dynamic_json["estimators"][variant.label] = entry;
     dynamic_rows.push_back(row);
   }
-  dynamic_rows.push_back({"paper (peaks)", F(kPaperPositionPeakM, 3), F(kPaperPositionPeakM, 3),
-                          F(kPaperPositionPeakM, 3), F(kPaperVelocityPeakMs, 3),
-                          F(kPaperVelocityPeakMs, 3), F(kPaperVelocityPeakMs, 3),
-                          F(kPaperRollPeakRad, 3), F(kPaperPitchPeakRad, 3), "-", "-"});
+  dynamic_rows.push_back({"paper (peaks)", TagNumber(kPaperPositionPeakM, 3),
+                          TagNumber(kPaperPositionPeakM, 3), TagNumber(kPaperPositionPeakM, 3),
+                          TagNumber(kPaperVelocityPeakMs, 3), TagNumber(kPaperVelocityPeakMs, 3),
+                          TagNumber(kPaperVelocityPeakMs, 3), TagNumber(kPaperRollPeakRad, 3),
+                          TagNumber(kPaperPitchPeakRad, 3), "-", "-"});
   dynamic_json["paper"] = {{"position_peak_m", kPaperPositionPeakM},
                            {"velocity_peak_m_s", kPaperVelocityPeakMs},
                            {"roll_peak_rad", kPaperRollPeakRad},
@@ -568,13 +554,13 @@ int RunAprilTagRepro(const ReproOptions& options) {
     const auto s = Summary(t);
     const auto f = Summary(final_values);
     return std::vector<std::string>{label,
-                                    fmt::format("{} {}", F(threshold, 3), unit),
-                                    F(s["mean"].get<double>(), 2),
-                                    F(s["median"].get<double>(), 2),
-                                    F(s["max"].get<double>(), 2),
+                                    fmt::format("{} {}", TagNumber(threshold, 3), unit),
+                                    TagNumber(s["mean"].get<double>(), 2),
+                                    TagNumber(s["median"].get<double>(), 2),
+                                    TagNumber(s["max"].get<double>(), 2),
                                     fmt::format("{}/{}", s["count"].get<int>(), runs),
-                                    F(f["mean"].get<double>(), 4),
-                                    F(f["max"].get<double>(), 4)};
+                                    TagNumber(f["mean"].get<double>(), 4),
+                                    TagNumber(f["max"].get<double>(), 4)};
   };
   std::string md = "# AprilTag paper (de Almeida Barbosa et al.): reproduction\n\n";
   md += fmt::format(
@@ -588,12 +574,13 @@ int RunAprilTagRepro(const ReproOptions& options) {
     std::vector<std::vector<std::string>> rows;
     for (const auto& [label, s] : {std::pair<std::string, const ImageStats*>{"hover", &image_stats},
                                    {"dynamic", &dynamic_image_stats}}) {
-      rows.push_back(
-          {label, std::to_string(s->frames), fmt::format("{}/{}", s->visible_detected, s->visible),
-           std::to_string(s->false_detections), F(s->corner_px.Mean(), 3), F(s->corner_px.max, 3),
-           F(100 * s->pose_position_m.Mean(), 2), F(s->pose_angle_rad.Mean() * 180 / M_PI, 2),
-           F(s->frames ? 1e3 * s->render_s / s->frames : kNaN, 1),
-           F(s->frames ? 1e3 * s->detect_s / s->frames : kNaN, 1)});
+      rows.push_back({label, std::to_string(s->frames),
+                      fmt::format("{}/{}", s->visible_detected, s->visible),
+                      std::to_string(s->false_detections), TagNumber(s->corner_px.Mean(), 3),
+                      TagNumber(s->corner_px.max, 3), TagNumber(100 * s->pose_position_m.Mean(), 2),
+                      TagNumber(s->pose_angle_rad.Mean() * 180 / M_PI, 2),
+                      TagNumber(s->frames ? 1e3 * s->render_s / s->frames : kNaN, 1),
+                      TagNumber(s->frames ? 1e3 * s->detect_s / s->frames : kNaN, 1)});
     }
     md += MarkdownTable({"flight", "frames", "visible tags detected", "false",
                          "corner err mean [px]", "corner err max [px]", "tag pose err [cm]",
@@ -609,7 +596,7 @@ int RunAprilTagRepro(const ReproOptions& options) {
       "converge in about 2 s, attitude more slowly. \"P0 matched\": the initial covariance is "
       "the spread the initial errors are drawn from; \"P0 x0.1\": standard deviations ten times "
       "too small, innovation gate off (the paper states neither P0 nor a gate).\n\n",
-      F(Summary(initial_pos)["mean"].get<double>(), 3));
+      TagNumber(Summary(initial_pos)["mean"].get<double>(), 3));
   md += MarkdownTable(
       {"error", "threshold", "converged after [s] mean", "median", "max", "runs converged",
        "final mean", "final max"},
@@ -636,14 +623,14 @@ int RunAprilTagRepro(const ReproOptions& options) {
       "\n## nees: hover runs, average NEES from {} s against the 95 % chi-square band\n\n"
       "For N = {} runs and 3 degrees of freedom the average NEES lies in [{}, {}] with 95 % "
       "probability when the filter is consistent.\n\n",
-      kNeesStartS, runs, F(band_lo, 3), F(band_hi, 3));
+      kNeesStartS, runs, TagNumber(band_lo, 3), TagNumber(band_hi, 3));
   md += MarkdownTable({"block", "mean ANEES (dof 3)", "fraction of time in band"},
-                      {{"position", F(nees["position"]["mean_anees"].get<double>(), 2),
-                        F(nees["position"]["fraction_in_band"].get<double>(), 2)},
-                       {"velocity", F(nees["velocity"]["mean_anees"].get<double>(), 2),
-                        F(nees["velocity"]["fraction_in_band"].get<double>(), 2)},
-                       {"attitude", F(nees["attitude"]["mean_anees"].get<double>(), 2),
-                        F(nees["attitude"]["fraction_in_band"].get<double>(), 2)}});
+                      {{"position", TagNumber(nees["position"]["mean_anees"].get<double>(), 2),
+                        TagNumber(nees["position"]["fraction_in_band"].get<double>(), 2)},
+                       {"velocity", TagNumber(nees["velocity"]["mean_anees"].get<double>(), 2),
+                        TagNumber(nees["velocity"]["fraction_in_band"].get<double>(), 2)},
+                       {"attitude", TagNumber(nees["attitude"]["mean_anees"].get<double>(), 2),
+                        TagNumber(nees["attitude"]["fraction_in_band"].get<double>(), 2)}});
   files.markdown = md;
   files.extra["hover_envelope.csv"] = envelope_csv;
   files.extra["dynamic_errors.csv"] = dynamic_csv;

@@ -13,6 +13,7 @@
 
 #include "core/errors.h"
 #include "core/key_values.h"
+#include "core/numbers.h"
 #include "core/progress.h"
 #include "core/rotation.h"
 #include "datasets/io/aprilgrid_log_import.h"
@@ -26,8 +27,7 @@
 namespace mavloc {
 namespace {
 
-constexpr const char* kStage = "repro euroc-imu-april";
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr const char* kImuAprilStage = "repro euroc-imu-april";
 // chi-square with 3 degrees of freedom at 99.73 % (the probability of 3 sigma in one dimension).
 constexpr double kChi2ThreeDof3Sigma = 14.16;
 
@@ -172,7 +172,7 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
       throw InputError("unknown estimator '" + split_variant(item).first + "'");
 
   // 1. The log as a dataset, with EuRoC's official T_B_C of both cameras.
-  ReportProgress(kStage, "importing " + data);
+  ReportProgress(kImuAprilStage, "importing " + data);
   AprilgridLogInputs inputs;
   inputs.imu_csv = data + "/imu0.csv";
   inputs.corners = {"cam0=" + data + "/cam0", "cam1=" + data + "/cam1"};
@@ -206,7 +206,7 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
                                    {"cam1", "cam1", {}, 0, false, ""},
                                    {"cam0+cam1", "cam0,cam1", {}, 0, false, ""}};
   for (auto& run : runs) {
-    ReportProgress(kStage, "smoother with " + run.label);
+    ReportProgress(kImuAprilStage, "smoother with " + run.label);
     EstimatorOptions estimator_options(smoother_options);
     estimator_options.Set("cameras", run.cameras);
     auto smoother = FindEstimator("smoother")->create(estimator_options);
@@ -389,7 +389,7 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
   {
     std::vector<std::pair<std::string, Estimate>> results;
     for (const auto& name : estimators) {
-      ReportProgress(kStage, name);
+      ReportProgress(kImuAprilStage, name);
       const auto [estimator_name, variant_options] = split_variant(name);
       EstimatorEvaluation e = RunAndEvaluate(estimator_name, variant_options, official, {});
       if (!e.ran) {

@@ -13,6 +13,7 @@
 
 #include "core/errors.h"
 #include "core/key_values.h"
+#include "core/numbers.h"
 #include "core/progress.h"
 #include "core/rotation.h"
 #include "datasets/scenarios/euroc_laser.h"
@@ -25,8 +26,7 @@ namespace mavloc {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr int kDefaultRuns = 20;
+constexpr int kLaserDefaultRuns = 20;
 const std::vector<std::string> kQuantities = {"alpha", "pitch", "roll", "v_o", "d"};
 
 struct QuantityResult {
@@ -112,18 +112,11 @@ RunResult EvaluateRun(const Dataset& dataset, const EstimatorOptions& estimator_
 
 bool IsAngle(const std::string& q) { return q == "alpha" || q == "roll" || q == "pitch"; }
 double Scale(const std::string& q) { return IsAngle(q) ? 1.0 / kDeg : 1.0; }
-std::string Unit(const std::string& q) {
+std::string LaserUnit(const std::string& q) {
   if (IsAngle(q)) return "deg";
   return q == "d" ? "m" : "m/s";
 }
 
-double Mean(const std::vector<double>& v) {
-  double sum = 0.0;
-  int n = 0;
-  for (const double x : v)
-    if (std::isfinite(x)) sum += x, ++n;
-  return n > 0 ? sum / n : kNaN;
-}
 double Max(const std::vector<double>& v) {
   double m = kNaN;
   for (const double x : v)
@@ -169,11 +162,11 @@ nlohmann::json TableJson(const TableResult& table) {
       fin_abs.push_back(std::abs(r.final_error) * Scale(q));
     }
     nlohmann::json qj;
-    qj["unit"] = Unit(q);
-    qj["mean_abs_error_after_convergence"] = Mean(mae);
-    qj["mean_abs_final_error"] = Mean(fin_abs);
+    qj["unit"] = LaserUnit(q);
+    qj["mean_abs_error_after_convergence"] = MeanOfFinite(mae);
+    qj["mean_abs_final_error"] = MeanOfFinite(fin_abs);
     qj["max_abs_final_error"] = Max(fin_abs);
-    qj["mean_convergence_time_s"] = Mean(tc);
+    qj["mean_convergence_time_s"] = MeanOfFinite(tc);
     qj["max_convergence_time_s"] = Max(tc);
     qj["per_run_final_error"] = fin;
     qj["per_run_convergence_time_s"] = tc;
@@ -206,9 +199,10 @@ std::string SummaryMarkdown(const TableResult& table) {
       mae.push_back(r.mae_after * Scale(q));
       fin_abs.push_back(std::abs(r.final_error) * Scale(q));
     }
-    rows.push_back({q, Unit(q), FormatNumber(Mean(mae), 4), FormatNumber(Mean(fin_abs), 4),
-                    FormatNumber(Max(fin_abs), 4), FormatNumber(Mean(tc), 2),
-                    FormatNumber(Max(tc), 2), PaperClaim(table.name, q)});
+    rows.push_back({q, LaserUnit(q), FormatNumber(MeanOfFinite(mae), 4),
+                    FormatNumber(MeanOfFinite(fin_abs), 4), FormatNumber(Max(fin_abs), 4),
+                    FormatNumber(MeanOfFinite(tc), 2), FormatNumber(Max(tc), 2),
+                    PaperClaim(table.name, q)});
   }
   md += MarkdownTable({"quantity", "unit", "MAE after convergence", "mean |final error|",
                        "max |final error|", "mean t_c [s]", "max t_c [s]", "paper"},
@@ -219,7 +213,7 @@ std::string SummaryMarkdown(const TableResult& table) {
 std::string RunsMarkdown(const TableResult& table) {
   std::vector<std::string> header = {"seed", "converged"};
   for (const auto& q : kQuantities) {
-    header.push_back(fmt::format("{} final [{}]", q, Unit(q)));
+    header.push_back(fmt::format("{} final [{}]", q, LaserUnit(q)));
     header.push_back(fmt::format("{} late MAE", q));
     header.push_back(q + " t_c [s]");
   }
@@ -244,9 +238,9 @@ void AppendCsv(const TableResult& table, std::string* csv) {
       const QuantityResult r = run.quantities.count(q) ? run.quantities.at(q) : QuantityResult{};
       // The table name holds a comma ("simulated, no bias"): quoted as RFC 4180 says.
       *csv += fmt::format("\"{}\",{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", table.name,
-                          run.seed, run.converged ? 1 : 0, q, Unit(q), r.final_error * Scale(q),
-                          r.mae_after * Scale(q), r.mae_late * Scale(q), r.mae_all * Scale(q),
-                          r.convergence_s);
+                          run.seed, run.converged ? 1 : 0, q, LaserUnit(q),
+                          r.final_error * Scale(q), r.mae_after * Scale(q), r.mae_late * Scale(q),
+                          r.mae_all * Scale(q), r.convergence_s);
     }
   }
 }
@@ -269,7 +263,7 @@ int RunLaserRepro(const ReproOptions& options) {
       throw InputError(fmt::format("repro laser: unknown setting '{}' (known: {})", key, known));
     }
   }
-  const int runs = options.runs.value_or(kDefaultRuns);
+  const int runs = options.runs.value_or(kLaserDefaultRuns);
   if (runs < 1) throw InputError("repro laser: --runs must be >= 1");
   const double duration_s = GetDoubleSetting(options.settings, "duration_s", 60.0);
   const int euroc_runs = std::min(runs, GetIntSetting(options.settings, "euroc_runs", 5));

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "core/numbers.h"
 #include "core/progress.h"
 #include "datasets/scenarios/marker_board_flight.h"
 #include "evaluation/comparison.h"
@@ -22,9 +23,7 @@ namespace mavloc {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kRadToDeg = 180.0 / M_PI;
-constexpr int kDefaultRuns = 5;
+constexpr int kPixhawkDefaultRuns = 5;
 constexpr double kJumpThresholdM = 0.10;
 
 using Settings = std::map<std::string, std::string>;
@@ -48,7 +47,7 @@ struct Metrics {
   double MsPerFrame() const { return frames ? 1e3 * runtime_s / frames : kNaN; }
 };
 
-struct Variant {
+struct PixhawkVariant {
   std::string label;
   std::string estimator;
   Settings options;
@@ -61,7 +60,7 @@ const QuantityErrorSeries* Find(const std::vector<QuantityErrorSeries>& all, con
   return nullptr;
 }
 
-void Measure(const Dataset& d, const Variant& variant, Metrics* m) {
+void Measure(const Dataset& d, const PixhawkVariant& variant, Metrics* m) {
   EvaluationOptions evaluation;
   evaluation.max_dt_s = 0.02;
   const EstimatorEvaluation e =
@@ -118,7 +117,7 @@ void Measure(const Dataset& d, const Variant& variant, Metrics* m) {
 }
 
 struct Context {
-  int runs = kDefaultRuns;
+  int runs = kPixhawkDefaultRuns;
   uint64_t seed = 1;
   std::optional<double> duration_s;
   Settings base;  // scenario settings from --set
@@ -126,7 +125,8 @@ struct Context {
 
 // Runs every variant on the same datasets (one per seed) of a scenario configuration.
 std::vector<Metrics> RunConfig(const Context& ctx, const Settings& scenario,
-                               const std::vector<Variant>& variants, const std::string& label) {
+                               const std::vector<PixhawkVariant>& variants,
+                               const std::string& label) {
   std::vector<Metrics> metrics(variants.size());
   for (int k = 0; k < ctx.runs; ++k) {
     ReportProgress("repro pixhawk", fmt::format("{} run {}/{}", label, k + 1, ctx.runs));
@@ -141,7 +141,7 @@ std::vector<Metrics> RunConfig(const Context& ctx, const Settings& scenario,
   return metrics;
 }
 
-std::string F(double value, int digits = 2) { return FormatNumber(value, digits); }
+std::string PixhawkNumber(double value, int digits = 2) { return FormatNumber(value, digits); }
 
 nlohmann::json MetricsJson(const Metrics& m) {
   nlohmann::json j;
@@ -190,12 +190,13 @@ const std::vector<std::string> kMetricHeader = {"pos RMSE [cm]",         "pos ma
                                                 "jumps>10cm /run",       "yaw RMSE [deg]",
                                                 "roll/pitch RMSE [deg]", "outputs [%]"};
 std::vector<std::string> MetricCells(const Metrics& m) {
-  return {F(m.PositionRmseCm()), F(m.PositionMaxCm()),       F(m.JumpsPerRun(), 1),
-          F(m.YawRmseDeg(), 3),  F(m.RollPitchRmseDeg(), 3), F(m.OutputPercent(), 1)};
+  return {PixhawkNumber(m.PositionRmseCm()),      PixhawkNumber(m.PositionMaxCm()),
+          PixhawkNumber(m.JumpsPerRun(), 1),      PixhawkNumber(m.YawRmseDeg(), 3),
+          PixhawkNumber(m.RollPitchRmseDeg(), 3), PixhawkNumber(m.OutputPercent(), 1)};
 }
 
-Variant Pnp() { return {"pnp", "pnp", {}}; }
-Variant Upright(const std::string& label, Settings options = {}) {
+PixhawkVariant Pnp() { return {"pnp", "pnp", {}}; }
+PixhawkVariant Upright(const std::string& label, Settings options = {}) {
   return {label, "upright-2p", std::move(options)};
 }
 
@@ -205,12 +206,13 @@ Table Fig15(const Context& ctx) {
   t.header = {"estimator"};
   t.header.insert(t.header.end(), kMetricHeader.begin(), kMetricHeader.end());
   t.header.push_back("ms/frame");
-  const std::vector<Variant> variants = {Pnp(), Upright("upright-2p (gravity EKF roll/pitch)")};
+  const std::vector<PixhawkVariant> variants = {Pnp(),
+                                                Upright("upright-2p (gravity EKF roll/pitch)")};
   const auto metrics = RunConfig(ctx, {}, variants, "fig15");
   for (size_t v = 0; v < variants.size(); ++v) {
     auto row = MetricCells(metrics[v]);
     row.insert(row.begin(), variants[v].label);
-    row.push_back(F(metrics[v].MsPerFrame(), 3));
+    row.push_back(PixhawkNumber(metrics[v].MsPerFrame(), 3));
     t.rows.push_back(row);
     nlohmann::json j = MetricsJson(metrics[v]);
     j["estimator"] = variants[v].label;
@@ -222,9 +224,10 @@ Table Fig15(const Context& ctx) {
       "At the scenario's defaults (all markers in view, 1 px, IMU attitude from the gravity EKF: "
       "{} deg roll/pitch RMSE) upright-2p has {} cm position RMSE vs pnp's {} cm, max {} vs {} cm, "
       "{} vs {} jumps over 10 cm per run; pnp's own roll/pitch RMSE is {} deg.",
-      F(u.RollPitchRmseDeg(), 3), F(u.PositionRmseCm()), F(p.PositionRmseCm()),
-      F(u.PositionMaxCm()), F(p.PositionMaxCm()), F(u.JumpsPerRun(), 1), F(p.JumpsPerRun(), 1),
-      F(p.RollPitchRmseDeg(), 3));
+      PixhawkNumber(u.RollPitchRmseDeg(), 3), PixhawkNumber(u.PositionRmseCm()),
+      PixhawkNumber(p.PositionRmseCm()), PixhawkNumber(u.PositionMaxCm()),
+      PixhawkNumber(p.PositionMaxCm()), PixhawkNumber(u.JumpsPerRun(), 1),
+      PixhawkNumber(p.JumpsPerRun(), 1), PixhawkNumber(p.RollPitchRmseDeg(), 3));
   return t;
 }
 
@@ -251,7 +254,7 @@ Table Sweep(const Context& ctx) {
   // IMU attitude error, with all markers and with one marker in view.
   const std::vector<double> attitude_errors = {0.05, 0.1, 0.25, 0.5, 1.0, 2.0};
   for (const char* markers : {"0", "1"}) {
-    std::vector<Variant> variants = {Pnp()};
+    std::vector<PixhawkVariant> variants = {Pnp()};
     for (const double e : attitude_errors)
       variants.push_back(
           Upright(fmt::format("upright-2p {} deg", e),
@@ -298,11 +301,12 @@ Table Sweep(const Context& ctx) {
   std::vector<std::string> wins, losses;
   std::vector<std::string> outlier_notes;
   for (const auto& r : rows) {
-    t.rows.push_back({r.dimension, r.value, F(r.pnp.PositionRmseCm()),
-                      F(r.upright.PositionRmseCm()), F(r.pnp.PositionMaxCm()),
-                      F(r.upright.PositionMaxCm()), F(r.pnp.JumpsPerRun(), 1),
-                      F(r.upright.JumpsPerRun(), 1), F(r.pnp.YawRmseDeg(), 3),
-                      F(r.upright.YawRmseDeg(), 3), Verdict(r.pnp, r.upright)});
+    t.rows.push_back(
+        {r.dimension, r.value, PixhawkNumber(r.pnp.PositionRmseCm()),
+         PixhawkNumber(r.upright.PositionRmseCm()), PixhawkNumber(r.pnp.PositionMaxCm()),
+         PixhawkNumber(r.upright.PositionMaxCm()), PixhawkNumber(r.pnp.JumpsPerRun(), 1),
+         PixhawkNumber(r.upright.JumpsPerRun(), 1), PixhawkNumber(r.pnp.YawRmseDeg(), 3),
+         PixhawkNumber(r.upright.YawRmseDeg(), 3), Verdict(r.pnp, r.upright)});
     nlohmann::json j;
     j["factor"] = r.dimension;
     j["value"] = r.value;
@@ -313,9 +317,9 @@ Table Sweep(const Context& ctx) {
       outlier_notes.push_back(fmt::format(
           "{} % outliers: pnp {} cm RMSE (max {}), upright-2p with RANSAC {} cm (max {}), "
           "without RANSAC {} cm (max {})",
-          r.value, F(r.pnp.PositionRmseCm()), F(r.pnp.PositionMaxCm()),
-          F(r.upright.PositionRmseCm()), F(r.upright.PositionMaxCm()), F(m.PositionRmseCm()),
-          F(m.PositionMaxCm())));
+          r.value, PixhawkNumber(r.pnp.PositionRmseCm()), PixhawkNumber(r.pnp.PositionMaxCm()),
+          PixhawkNumber(r.upright.PositionRmseCm()), PixhawkNumber(r.upright.PositionMaxCm()),
+          PixhawkNumber(m.PositionRmseCm()), PixhawkNumber(m.PositionMaxCm())));
     }
     j["verdict"] = Verdict(r.pnp, r.upright);
     t.json.push_back(j);
@@ -344,7 +348,7 @@ Table Sweep(const Context& ctx) {
     notes << fmt::format(
         "With {} marker(s) in view (pnp's own roll/pitch RMSE {} deg), upright-2p's position "
         "RMSE is below pnp's up to an IMU attitude error of {} deg{}. ",
-        markers, F(pnp_tilt, 3), last_win,
+        markers, PixhawkNumber(pnp_tilt, 3), last_win,
         first_loss == "none" ? " (the whole sweep)" : ", not from " + first_loss + " deg on");
   }
   notes << "\n\nupright-2p is more accurate and smoother than pnp at: ";
@@ -364,7 +368,7 @@ Table Kf(const Context& ctx) {
   t.header.insert(t.header.end(), kMetricHeader.begin(), kMetricHeader.end());
   t.header.push_back("velocity RMSE [m/s]");
   t.header.push_back("rejected or predicted frames");
-  const std::vector<Variant> variants = {
+  const std::vector<PixhawkVariant> variants = {
       Upright("upright-2p (raw)"),
       {"pixhawk-kf <- upright-2p", "pixhawk-kf", {}},
       Pnp(),
@@ -376,9 +380,9 @@ Table Kf(const Context& ctx) {
   struct Condition {
     std::string label;
     Settings scenario;
-    std::vector<Variant> variants;
+    std::vector<PixhawkVariant> variants;
   };
-  std::vector<Variant> dropped = variants;
+  std::vector<PixhawkVariant> dropped = variants;
   dropped.push_back(
       {"pixhawk-kf <- upright-2p, nominal dt", "pixhawk-kf", {{"use_measured_dt", "false"}}});
   const std::vector<Condition> conditions = {
@@ -393,7 +397,7 @@ Table Kf(const Context& ctx) {
       auto row = MetricCells(m);
       row.insert(row.begin(), c.variants[v].label);
       row.insert(row.begin(), c.label);
-      row.push_back(F(m.VelocityRmse(), 3));
+      row.push_back(PixhawkNumber(m.VelocityRmse(), 3));
       row.push_back(fmt::format("{}", m.failures));
       t.rows.push_back(row);
       nlohmann::json j = MetricsJson(m);
@@ -421,7 +425,7 @@ Table Timestamps(const Context& ctx) {
     for (const Case& c : {Case{"exposure (hardware trigger)", "exposure", "0"},
                           Case{"arrival, uncompensated", "arrival", "0"},
                           Case{"arrival, mean delay 17.5 ms subtracted", "arrival", "17.5"}}) {
-      const std::vector<Variant> variants = {
+      const std::vector<PixhawkVariant> variants = {
           Upright("upright-2p", {{"image_delay_ms", c.compensation_ms}}),
           {"pixhawk-kf", "pixhawk-kf", {{"image_delay_ms", c.compensation_ms}}}};
       const auto metrics =
@@ -452,7 +456,7 @@ Table Timestamps(const Context& ctx) {
 
 int RunPixhawkRepro(const ReproOptions& options) {
   Context ctx;
-  ctx.runs = options.runs.value_or(kDefaultRuns);
+  ctx.runs = options.runs.value_or(kPixhawkDefaultRuns);
   ctx.seed = options.seed;
   std::set<std::string> tables = {"fig15", "sweep", "kf", "timestamps"};
   for (const auto& [key, value] : options.settings) {

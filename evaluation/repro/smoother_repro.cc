@@ -16,6 +16,7 @@
 
 #include "core/errors.h"
 #include "core/key_values.h"
+#include "core/numbers.h"
 #include "core/progress.h"
 #include "core/rotation.h"
 #include "datasets/scenarios/euroc_laser.h"
@@ -37,10 +38,9 @@ namespace mavloc {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr int kDefaultRuns = 20;
+constexpr int kSmootherDefaultRuns = 20;
 constexpr double kEarlyWindowS = 10.0;
-constexpr const char* kStage = "repro smoother";
+constexpr const char* kSmootherStage = "repro smoother";
 // The smoother's built-in seed for features0 with map landmarks (no registry estimator).
 constexpr const char* kLandmarkPnp = "landmark-pnp";
 const std::vector<std::string> kAllScenarios = {
@@ -300,14 +300,6 @@ Wins Judge(const RunMetrics& smoother, const RunMetrics& other, const std::strin
   return w;
 }
 
-double Mean(const std::vector<double>& values) {
-  double sum = 0.0;
-  int n = 0;
-  for (const double v : values)
-    if (std::isfinite(v)) sum += v, ++n;
-  return n > 0 ? sum / n : kNaN;
-}
-
 struct RowResult {
   Row row;
   std::vector<RunMetrics> runs;
@@ -324,8 +316,9 @@ struct RowResult {
     return n;
   }
   double MeanFailures() const {
-    return RanCount() > 0 ? Mean(Collect([](const RunMetrics& r) { return 1.0 * r.failures; }))
-                          : kNaN;
+    return RanCount() > 0
+               ? MeanOfFinite(Collect([](const RunMetrics& r) { return 1.0 * r.failures; }))
+               : kNaN;
   }
   std::map<std::string, int> FailureReasons() const {
     std::map<std::string, int> total;
@@ -369,8 +362,10 @@ std::string Why(const ScenarioResult& s, const RowResult& other, const WinCount&
         "on the real, biased EuRoC IMU the laser-ekf seed diverges after about 11 s (mean d RMSE "
         "{} m; the smoother's {} m): the paper's filter has no bias states, and the smoother, "
         "initialised from the diverged modes, cannot recover from a diverged seed",
-        FormatNumber(Mean(other.Collect([](const RunMetrics& r) { return Rmse(r, "d"); })), 1),
-        FormatNumber(Mean(smoother.Collect([](const RunMetrics& r) { return Rmse(r, "d"); })), 1)));
+        FormatNumber(MeanOfFinite(other.Collect([](const RunMetrics& r) { return Rmse(r, "d"); })),
+                     1),
+        FormatNumber(
+            MeanOfFinite(smoother.Collect([](const RunMetrics& r) { return Rmse(r, "d"); })), 1)));
   }
   if (scenario == "three-point-hover" &&
       (w.lost.count("attitude") || w.lost.count("roll") || w.lost.count("pitch"))) {
@@ -380,10 +375,12 @@ std::string Why(const ScenarioResult& s, const RowResult& other, const WinCount&
     const auto tilt = [](const RowResult& r) {
       return fmt::format(
           "{} / {}",
-          FormatNumber(Mean(r.Collect([](const RunMetrics& m) { return Rmse(m, "roll"); })) / kDeg,
-                       3),
-          FormatNumber(Mean(r.Collect([](const RunMetrics& m) { return Rmse(m, "pitch"); })) / kDeg,
-                       3));
+          FormatNumber(
+              MeanOfFinite(r.Collect([](const RunMetrics& m) { return Rmse(m, "roll"); })) / kDeg,
+              3),
+          FormatNumber(
+              MeanOfFinite(r.Collect([](const RunMetrics& m) { return Rmse(m, "pitch"); })) / kDeg,
+              3));
     };
     std::string sentence = fmt::format(
         "roll/pitch RMSE {} deg against {}'s {} deg (means; the smoother evaluated at its camera "
@@ -408,7 +405,7 @@ std::string Why(const ScenarioResult& s, const RowResult& other, const WinCount&
     std::vector<double> values;
     for (const int k : indices)
       if (r.runs[k].ran) values.push_back(f(r.runs[k]));
-    return Mean(values);
+    return MeanOfFinite(values);
   };
   if (w.lost_runs.count("position")) {
     const auto& runs = w.lost_runs.at("position");
@@ -489,7 +486,7 @@ std::vector<std::string> Verdicts(const ScenarioResult& s) {
     if (other.row.criterion == "pose") {  // the ATE attitude is dominated by yaw: say when the
                                           // smoother's tilt alone is worse
       const auto mean_deg = [](const RowResult& r, const char* q) {
-        return Mean(r.Collect([&](const RunMetrics& m) { return Rmse(m, q); })) / kDeg;
+        return MeanOfFinite(r.Collect([&](const RunMetrics& m) { return Rmse(m, q); })) / kDeg;
       };
       const RowResult& smoother = s.rows.front();
       const double sr = mean_deg(smoother, "roll"), sp = mean_deg(smoother, "pitch");
@@ -507,7 +504,7 @@ std::vector<std::string> Verdicts(const ScenarioResult& s) {
     const auto early = [&](const RowResult& r, const std::string& q) {
       const double scale = (q == "d" || q == "v_o") ? 1.0 : 1.0 / kDeg;
       return FormatNumber(
-          Mean(r.Collect([&](const RunMetrics& m) { return EarlyRmse(m, q); })) * scale, 3);
+          MeanOfFinite(r.Collect([&](const RunMetrics& m) { return EarlyRmse(m, q); })) * scale, 3);
     };
     std::vector<std::string> parts;
     for (const auto& q : kLaserQuantities)
@@ -523,16 +520,16 @@ std::vector<std::string> Verdicts(const ScenarioResult& s) {
         "smoother is compared with its seed only.");
   const RowResult& smoother = s.rows.front();
   const double bridged =
-      Mean(smoother.Collect([](const RunMetrics& m) { return 1.0 * m.bridged_frames; }));
+      MeanOfFinite(smoother.Collect([](const RunMetrics& m) { return 1.0 * m.bridged_frames; }));
   if (bridged > 0.0)
     lines.push_back(fmt::format(
         "smoother position RMSE over the frames its seed solved: {} mm; over the {} frames per "
         "run it bridged by the IMU alone (seed without a pose): {} mm.",
-        FormatNumber(1e3 * Mean(smoother.Collect(
+        FormatNumber(1e3 * MeanOfFinite(smoother.Collect(
                                [](const RunMetrics& m) { return m.seeded_position_rmse_m; })),
                      2),
         FormatNumber(bridged, 0),
-        FormatNumber(1e3 * Mean(smoother.Collect(
+        FormatNumber(1e3 * MeanOfFinite(smoother.Collect(
                                [](const RunMetrics& m) { return m.bridged_position_rmse_m; })),
                      1)));
   const double failures = smoother.MeanFailures();
@@ -723,8 +720,9 @@ ScenarioResult MakeScenarioResult(const Plan& plan, const std::vector<nlohmann::
   return result;
 }
 
-// Settings of `repro smoother` (see the header), parsed in the report's process and in every unit.
-struct Settings {
+// The settings of `repro smoother` (see the header), parsed in the report's process and in every
+// unit.
+struct SmootherSettings {
   std::map<std::string, std::string> raw;
   std::map<std::string, std::string> smoother_options;
   std::string euroc_data;
@@ -741,8 +739,8 @@ struct Settings {
   }
 };
 
-Settings ParseSettings(const std::map<std::string, std::string>& raw) {
-  Settings settings;
+SmootherSettings ParseSettings(const std::map<std::string, std::string>& raw) {
+  SmootherSettings settings;
   settings.raw = raw;
   for (const auto& [key, value] : raw) {
     if (key.rfind("smoother.", 0) == 0) {
@@ -990,12 +988,12 @@ std::string ScenarioMarkdown(const ScenarioResult& s, int runs) {
       std::vector<std::string> row = {r.row.label, RoleName(r.row.role)};
       for (const auto& q : kLaserQuantities) {
         const double scale = (q == "d" || q == "v_o") ? 1.0 : 1.0 / kDeg;
-        row.push_back(
-            Cell(Mean(r.Collect([&](const RunMetrics& m) { return Rmse(m, q); })), scale, 4));
+        row.push_back(Cell(MeanOfFinite(r.Collect([&](const RunMetrics& m) { return Rmse(m, q); })),
+                           scale, 4));
       }
       row.push_back(FormatNumber(r.MeanFailures(), 1));
-      row.push_back(
-          FormatNumber(Mean(r.Collect([](const RunMetrics& m) { return m.runtime_s; })), 3));
+      row.push_back(FormatNumber(
+          MeanOfFinite(r.Collect([](const RunMetrics& m) { return m.runtime_s; })), 3));
       row.push_back(WinCell(s, r));
       rows.push_back(row);
     }
@@ -1016,19 +1014,22 @@ std::string ScenarioMarkdown(const ScenarioResult& s, int runs) {
         rows.push_back(row);
         continue;
       }
+      row.push_back(Cell(
+          MeanOfFinite(r.Collect([](const RunMetrics& m) { return m.position_rmse_m; })), 1e3, 2));
       row.push_back(
-          Cell(Mean(r.Collect([](const RunMetrics& m) { return m.position_rmse_m; })), 1e3, 2));
-      row.push_back(Cell(Mean(r.Collect([](const RunMetrics& m) { return m.attitude_rmse_rad; })),
-                         1 / kDeg, 3));
+          Cell(MeanOfFinite(r.Collect([](const RunMetrics& m) { return m.attitude_rmse_rad; })),
+               1 / kDeg, 3));
       row.push_back(
-          Cell(Mean(r.Collect([](const RunMetrics& m) { return Rmse(m, "roll"); })), 1 / kDeg, 3));
+          Cell(MeanOfFinite(r.Collect([](const RunMetrics& m) { return Rmse(m, "roll"); })),
+               1 / kDeg, 3));
       row.push_back(
-          Cell(Mean(r.Collect([](const RunMetrics& m) { return Rmse(m, "pitch"); })), 1 / kDeg, 3));
+          Cell(MeanOfFinite(r.Collect([](const RunMetrics& m) { return Rmse(m, "pitch"); })),
+               1 / kDeg, 3));
       row.push_back(FormatNumber(
-          Mean(r.Collect([](const RunMetrics& m) { return 1.0 * m.poses_evaluated; })), 0));
+          MeanOfFinite(r.Collect([](const RunMetrics& m) { return 1.0 * m.poses_evaluated; })), 0));
       row.push_back(FormatNumber(r.MeanFailures(), 1));
-      row.push_back(
-          FormatNumber(Mean(r.Collect([](const RunMetrics& m) { return m.runtime_s; })), 3));
+      row.push_back(FormatNumber(
+          MeanOfFinite(r.Collect([](const RunMetrics& m) { return m.runtime_s; })), 3));
       row.push_back(WinCell(s, r));
       rows.push_back(row);
     }
@@ -1060,8 +1061,8 @@ nlohmann::json ScenarioJson(const ScenarioResult& s) {
     std::vector<double> attitude_deg;
     for (const double a : r.Collect([](const RunMetrics& m) { return m.attitude_rmse_rad; }))
       attitude_deg.push_back(a / kDeg);
-    e["position_rmse_m"] = Mean(position);
-    e["attitude_rmse_deg"] = Mean(attitude_deg);
+    e["position_rmse_m"] = MeanOfFinite(position);
+    e["attitude_rmse_deg"] = MeanOfFinite(attitude_deg);
     e["per_run_position_rmse_m"] = position;
     e["per_run_attitude_rmse_deg"] = attitude_deg;
     nlohmann::json quantities = nlohmann::json::object();
@@ -1075,19 +1076,19 @@ nlohmann::json ScenarioJson(const ScenarioResult& s) {
       std::vector<double> early;
       for (const double v : r.Collect([&](const RunMetrics& m) { return EarlyRmse(m, q); }))
         early.push_back(angle ? v / kDeg : v);
-      quantities[q] = {{"rmse", Mean(values)},
+      quantities[q] = {{"rmse", MeanOfFinite(values)},
                        {"per_run_rmse", values},
-                       {"rmse_first_10s", Mean(early)},
+                       {"rmse_first_10s", MeanOfFinite(early)},
                        {"unit", angle ? "deg" : (q == "d" ? "m" : "m/s")}};
     }
     e["quantity_rmse"] = quantities;
     if (r.row.role == Role::kSmoother && !s.plan.laser) {
       e["position_rmse_m_seeded_frames"] =
-          Mean(r.Collect([](const RunMetrics& m) { return m.seeded_position_rmse_m; }));
+          MeanOfFinite(r.Collect([](const RunMetrics& m) { return m.seeded_position_rmse_m; }));
       e["position_rmse_m_imu_bridged_frames"] =
-          Mean(r.Collect([](const RunMetrics& m) { return m.bridged_position_rmse_m; }));
+          MeanOfFinite(r.Collect([](const RunMetrics& m) { return m.bridged_position_rmse_m; }));
       e["mean_imu_bridged_frames_per_run"] =
-          Mean(r.Collect([](const RunMetrics& m) { return 1.0 * m.bridged_frames; }));
+          MeanOfFinite(r.Collect([](const RunMetrics& m) { return 1.0 * m.bridged_frames; }));
     }
     if (s.bound_runs > 0) {
       e["cramer_rao"] = {{"smoothing", EfficiencyJson(EfficiencyOf(r, BoundKind::kSmoothing))},
@@ -1103,7 +1104,7 @@ nlohmann::json ScenarioJson(const ScenarioResult& s) {
                   {"attitude", AneesJson(SummarizeAnees(r.nees.attitude, r.nees.runs))}};
     e["mean_failures_per_run"] = r.MeanFailures();
     e["failures"] = r.FailureReasons();
-    e["mean_runtime_s"] = Mean(r.Collect([](const RunMetrics& m) { return m.runtime_s; }));
+    e["mean_runtime_s"] = MeanOfFinite(r.Collect([](const RunMetrics& m) { return m.runtime_s; }));
     nlohmann::json per_run = nlohmann::json::array();
     for (const auto& m : r.runs) per_run.push_back(m.json);
     e["per_run"] = per_run;
@@ -1136,15 +1137,15 @@ nlohmann::json ScenarioJson(const ScenarioResult& s) {
 
 nlohmann::json RunSmootherReproUnit(const std::map<std::string, std::string>& raw,
                                     const std::string& scenario, uint64_t seed) {
-  const Settings settings = ParseSettings(raw);
+  const SmootherSettings settings = ParseSettings(raw);
   const Plan plan = MakePlan(scenario, settings.smoother_options);
   if (!FindScenario(scenario)) throw InputError("repro smoother: no scenario '" + scenario + "'");
   return RunUnit(plan, seed, settings.DurationFor(scenario), settings.euroc_data);
 }
 
 int RunSmootherRepro(const ReproOptions& options) {
-  const Settings settings = ParseSettings(options.settings);
-  const int runs = options.runs.value_or(kDefaultRuns);
+  const SmootherSettings settings = ParseSettings(options.settings);
+  const int runs = options.runs.value_or(kSmootherDefaultRuns);
   if (runs < 1) throw InputError("repro smoother: --runs must be >= 1");
   if (options.jobs < 1) throw InputError("repro smoother: --jobs must be >= 1");
   const std::string& euroc_data = settings.euroc_data;
@@ -1193,7 +1194,7 @@ int RunSmootherRepro(const ReproOptions& options) {
     for (const auto& plan : plans) {
       for (int k = 0; k < runs; ++k) {
         const uint64_t seed = options.seed + static_cast<uint64_t>(k);
-        ReportProgress(kStage,
+        ReportProgress(kSmootherStage,
                        fmt::format("{} run {}/{} (seed {})", plan.scenario, k + 1, runs, seed));
         units.push_back(nlohmann::json::parse(
             RunUnit(plan, seed, settings.DurationFor(plan.scenario), euroc_data).dump()));

@@ -17,6 +17,7 @@
 
 #include "core/errors.h"
 #include "core/key_values.h"
+#include "core/numbers.h"
 #include "core/progress.h"
 #include "core/rotation.h"
 #include "datasets/scenarios/three_point_hover.h"
@@ -30,8 +31,7 @@ namespace {
 
 using Settings = std::map<std::string, std::string>;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr int kDefaultRuns = 20;
+constexpr int kThreePointDefaultRuns = 20;
 const std::vector<std::string> kColumns = {"x", "y", "z", "roll", "pitch", "yaw"};
 // Table I of the paper: mean errors, x, y, z in %, roll, pitch, yaw in deg.
 constexpr std::array<double, 6> kPaper3p = {0.26, 0.24, 0.08, 0.07, 0.04, 0.01};
@@ -43,7 +43,7 @@ constexpr const char* kErrorDefinition =
     "every Monte-Carlo run; the same definition for every row";
 
 bool IsPosition(const std::string& q) { return q == "x" || q == "y" || q == "z"; }
-std::string Unit(const std::string& q) { return IsPosition(q) ? "%" : "deg"; }
+std::string ThreePointUnit(const std::string& q) { return IsPosition(q) ? "%" : "deg"; }
 
 // Per-frame errors of one quantity pooled over runs.
 struct ErrorStat {
@@ -84,15 +84,15 @@ struct VariantStats {
   }
 };
 
-struct Variant {
+struct ThreePointVariant {
   std::string label;  // row name in the reports
   std::string estimator;
   EstimatorOptions options;
 };
 
-std::vector<Variant> MakeVariants(double bearing_noise_deg, bool with_true_angles) {
+std::vector<ThreePointVariant> MakeVariants(double bearing_noise_deg, bool with_true_angles) {
   const std::string sigma = fmt::format("{}", bearing_noise_deg);
-  std::vector<Variant> variants;
+  std::vector<ThreePointVariant> variants;
   variants.push_back(
       {"three-point", "three-point", EstimatorOptions(Settings{{"bearing_sigma_deg", sigma}})});
   if (with_true_angles)
@@ -113,7 +113,7 @@ Eigen::Vector3d TruePositionAt(const Dataset& d, TimeNs t_ns) {
   return it->T_W_B.p;
 }
 
-void AccumulateRun(const Dataset& d, const Variant& variant, VariantStats* stats) {
+void AccumulateRun(const Dataset& d, const ThreePointVariant& variant, VariantStats* stats) {
   EvaluationOptions evaluation_options;
   evaluation_options.quantities = kColumns;
   const EstimatorEvaluation e =
@@ -141,8 +141,8 @@ void AccumulateRun(const Dataset& d, const Variant& variant, VariantStats* stats
 }
 
 std::map<std::string, VariantStats> RunConfig(const Settings& settings,
-                                              const std::vector<Variant>& variants, int runs,
-                                              uint64_t seed, const std::string& label) {
+                                              const std::vector<ThreePointVariant>& variants,
+                                              int runs, uint64_t seed, const std::string& label) {
   std::map<std::string, VariantStats> stats;
   for (int k = 0; k < runs; ++k) {
     ReportProgress("repro three-point", fmt::format("{} run {}/{}", label, k + 1, runs));
@@ -212,7 +212,7 @@ nlohmann::json StatsToJson(const VariantStats& stats, const std::array<double, 6
                         {"rmse", s.Rms()},
                         {"std_over_runs", s.RunStd()},
                         {"count", s.count},
-                        {"unit", Unit(kColumns[c])}};
+                        {"unit", ThreePointUnit(kColumns[c])}};
     if (paper != nullptr) q["paper"] = (*paper)[c];
     quantities[kColumns[c]] = q;
   }
@@ -268,7 +268,7 @@ bool BeatsOnEveryColumn(const VariantStats& three, const VariantStats& two) {
 }  // namespace
 
 int RunThreePointRepro(const ReproOptions& options) {
-  const int runs = options.runs.value_or(kDefaultRuns);
+  const int runs = options.runs.value_or(kThreePointDefaultRuns);
   if (runs < 1) throw InputError("repro three-point: --runs must be >= 1");
   Settings scenario_settings = options.settings;
   const std::vector<double> noise_levels =
@@ -405,7 +405,7 @@ int RunThreePointRepro(const ReproOptions& options) {
   md += std::string("**Error definition.** ") + kErrorDefinition + ".\n\n";
   md += fmt::format("## table1 — mean error at bearing noise {} deg\n\n", bearing_noise_deg);
   std::vector<std::string> header = {"row"};
-  for (const auto& q : kColumns) header.push_back(q + " [" + Unit(q) + "]");
+  for (const auto& q : kColumns) header.push_back(q + " [" + ThreePointUnit(q) + "]");
   header.push_back("frames without solution");
   std::vector<std::vector<std::string>> t1_rows = {
       RowCells("3pAlgo (paper)", nullptr, &kPaper3p),
@@ -424,9 +424,9 @@ int RunThreePointRepro(const ReproOptions& options) {
   for (size_t c = 0; c < kColumns.size(); ++c) {
     const std::string& q = kColumns[c];
     const double m3 = s3.Mean(q), m2 = s2.Mean(q);
-    std::string line =
-        fmt::format("- **{}**: 3p {} {} vs 2p {} {} (paper: 3p {}, 2p {}).", q, Cell(m3), Unit(q),
-                    Cell(m2), Unit(q), Cell(kPaper3p[c]), Cell(kPaper2p[c]), Unit(q));
+    std::string line = fmt::format("- **{}**: 3p {} {} vs 2p {} {} (paper: 3p {}, 2p {}).", q,
+                                   Cell(m3), ThreePointUnit(q), Cell(m2), ThreePointUnit(q),
+                                   Cell(kPaper3p[c]), Cell(kPaper2p[c]), ThreePointUnit(q));
     if (m3 < m2) {
       line += " 3p is better, as the paper claims";
       line += m3 <= 1.5 * kPaper3p[c] ? ", and reaches the paper's value."

@@ -15,6 +15,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "core/text.h"
 #include "evaluation/sweep/sweep_partial.h"
 
 namespace fs = std::filesystem;
@@ -22,12 +23,6 @@ namespace fs = std::filesystem;
 namespace mavloc {
 
 namespace {
-
-std::string ShellQuote(const std::string& text) {
-  std::string quoted = "'";
-  for (const char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
 
 std::string Tool(const char* name, const char* environment_override) {
   const char* value = std::getenv(environment_override);
@@ -49,12 +44,6 @@ CommandOutput RunShell(const std::string& command) {
   const int status = ::pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
-}
-
-std::string Trim(std::string text) {
-  while (!text.empty() && (text.back() == '\n' || text.back() == ' ' || text.back() == '\r'))
-    text.pop_back();
-  return text;
 }
 
 // sbatch --parsable prints "jobid" or "jobid;cluster".

@@ -20,7 +20,7 @@ struct MetricSamples {
   std::vector<double> values;  // in unit order
 };
 
-struct Cell {
+struct SweepCell {
   std::string scenario, settings, estimator;
   int runs = 0, ran = 0;
   std::vector<std::string> skipped_reasons;  // distinct, first seen first
@@ -65,7 +65,7 @@ std::map<std::string, std::string> BuildSweepReport(const SweepGrid& grid,
   if (units.size() != SweepUnitCount(grid))
     throw InputError(fmt::format("sweep report: {} unit results for a grid of {} units",
                                  units.size(), SweepUnitCount(grid)));
-  std::vector<Cell> cells;
+  std::vector<SweepCell> cells;
   std::map<std::string, size_t> cell_index;  // key: scenario \n settings \n estimator
   std::string csv = "unit,scenario,settings,seed,estimator,ran,metric,unit,value\n";
   for (size_t k = 0; k < units.size(); ++k) {
@@ -82,13 +82,13 @@ std::map<std::string, std::string> BuildSweepReport(const SweepGrid& grid,
       const std::string key = scenario + "\n" + settings + "\n" + estimator;
       auto [it, inserted] = cell_index.try_emplace(key, cells.size());
       if (inserted) {
-        Cell cell;
+        SweepCell cell;
         cell.scenario = scenario;
         cell.settings = settings;
         cell.estimator = estimator;
         cells.push_back(std::move(cell));
       }
-      Cell& cell = cells[it->second];
+      SweepCell& cell = cells[it->second];
       ++cell.runs;
       if (!row.at("ran").get<bool>()) {
         const std::string reason = row.value("skipped", "");
@@ -143,7 +143,7 @@ std::map<std::string, std::string> BuildSweepReport(const SweepGrid& grid,
     markdown.append(MarkdownTable(header, rows));
     rows.clear();
   };
-  for (const Cell& cell : cells) {
+  for (const SweepCell& cell : cells) {
     const std::string section =
         cell.scenario + (cell.settings.empty() ? "" : " (" + cell.settings + ")");
     if (section != current_section) {

@@ -24,6 +24,7 @@
 #include "core/errors.h"
 #include "core/interrupt.h"
 #include "core/progress.h"
+#include "core/text.h"
 #include "evaluation/sweep/sweep_unit.h"
 
 namespace fs = std::filesystem;
@@ -31,11 +32,6 @@ namespace fs = std::filesystem;
 namespace mavloc {
 
 namespace {
-
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 class ProgressLine {
  public:
@@ -207,7 +203,7 @@ std::vector<nlohmann::json> RunSweepUnits(const SweepGrid& grid, const std::vect
     const std::string unit =
         w.position >= 0 ? std::to_string(indices[static_cast<size_t>(w.position)]) : "-";
     const std::string text = fmt::format("sweep: unit {} failed (worker exit {}{}): {}", unit, code,
-                                         what, WorkerMessage(ReadFile(w.stderr_path)));
+                                         what, WorkerMessage(ReadWholeFile(w.stderr_path)));
     stop_all();
     if (code == 2) throw InputError(text);
     throw std::runtime_error(text);
@@ -262,7 +258,7 @@ std::vector<nlohmann::json> RunSweepUnits(const SweepGrid& grid, const std::vect
           if (w.position < 0 || line != std::to_string(indices[position]))
             fail(w, ", unexpected reply '" + line + "'");
           results[position] = nlohmann::json::parse(
-              ReadFile(fmt::format("{}/unit-{}.json", temp.path, indices[position])));
+              ReadWholeFile(fmt::format("{}/unit-{}.json", temp.path, indices[position])));
           ++done;
           progress.UnitDone();
           assign(w);

@@ -19,15 +19,16 @@
 
 namespace mavloc {
 
-namespace {
-
-struct FamilyFunctions {
+// Outside the anonymous namespace because TagDetector::Impl holds one.
+struct TagFamilyFunctions {
   const char* name;
   apriltag_family_t* (*create)();
   void (*destroy)(apriltag_family_t*);
 };
 
-constexpr FamilyFunctions kFamilies[] = {
+namespace {
+
+constexpr TagFamilyFunctions kFamilies[] = {
     {"tag36h11", tag36h11_create, tag36h11_destroy},
     {"tag36h10", tag36h10_create, tag36h10_destroy},
     {"tag25h9", tag25h9_create, tag25h9_destroy},
@@ -38,7 +39,7 @@ constexpr FamilyFunctions kFamilies[] = {
     {kAprilgridFamilyAlias, AprilgridFamilyCreate, AprilgridFamilyDestroy},
 };
 
-const FamilyFunctions* FindFamily(const std::string& name) {
+const TagFamilyFunctions* FindFamily(const std::string& name) {
   for (const auto& family : kFamilies) {
     if (name == family.name) return &family;
   }
@@ -54,7 +55,7 @@ std::vector<std::string> SupportedTagFamilies() {
 }
 
 struct TagDetector::Impl {
-  const FamilyFunctions* functions = nullptr;
+  const TagFamilyFunctions* functions = nullptr;
   apriltag_family_t* family = nullptr;
   apriltag_detector_t* detector = nullptr;
   ~Impl() {

@@ -20,16 +20,6 @@ LaserCalibration CalibrationFromMap(const WorldMap& map) {
           map.parameters.at("laser_theta"), map.parameters.at("laser_phi")};
 }
 
-// The ground-truth state nearest to t (rows are time-ordered).
-const GroundTruthState& NearestTruth(const std::vector<GroundTruthState>& truth, TimeNs t) {
-  auto it =
-      std::lower_bound(truth.begin(), truth.end(), t,
-                       [](const GroundTruthState& s, TimeNs value) { return s.t_ns < value; });
-  if (it == truth.end()) return truth.back();
-  if (it != truth.begin() && (t - (it - 1)->t_ns) < (it->t_ns - t)) --it;
-  return *it;
-}
-
 // d, v_o, roll, pitch, alpha of the camera C from the modes in C' (same origin, R_C_Cp).
 std::vector<double> OutputQuantities(const LaserState& m, XiSign sign,
                                      const Eigen::Matrix3d& R_C_Cp) {

@@ -21,15 +21,6 @@ struct PendingFrame {
   std::vector<TagPoseMeasurement> tags;
 };
 
-// The ground-truth row nearest to t (ground truth is time-ordered).
-const GroundTruthState& NearestTruth(const std::vector<GroundTruthState>& truth, TimeNs t) {
-  auto it = std::lower_bound(truth.begin(), truth.end(), t,
-                             [](const GroundTruthState& s, TimeNs x) { return s.t_ns < x; });
-  if (it == truth.end()) return truth.back();
-  if (it != truth.begin() && (t - std::prev(it)->t_ns) < (it->t_ns - t)) return *std::prev(it);
-  return *it;
-}
-
 double ScenarioDouble(const Dataset& dataset, const std::string& key, double fallback) {
   const auto it = dataset.scenario_info.find(key);
   if (it == dataset.scenario_info.end()) return fallback;

@@ -9,17 +9,17 @@ namespace mavloc {
 
 namespace {
 
-struct Derivative {
+struct ImuDerivative {
   Eigen::Vector4d dq;  // (w, x, y, z) derivative of the quaternion
   Eigen::Vector3d dv;
   Eigen::Vector3d dp;
 };
 
-Derivative Evaluate(const Eigen::Quaterniond& q, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
-                    const Eigen::Vector3d& f) {
+ImuDerivative Evaluate(const Eigen::Quaterniond& q, const Eigen::Vector3d& v,
+                       const Eigen::Vector3d& w, const Eigen::Vector3d& f) {
   const Eigen::Quaterniond omega(0.0, w.x(), w.y(), w.z());
   const Eigen::Quaterniond qdot = q * omega;
-  Derivative d;
+  ImuDerivative d;
   d.dq = 0.5 * Eigen::Vector4d(qdot.w(), qdot.x(), qdot.y(), qdot.z());
   d.dv = q.normalized() * f + GravityW();
   d.dp = v;
@@ -71,12 +71,12 @@ NavState ImuIntegrator::Step(const NavState& x, TimeNs dt_ns, const ImuBiases& b
   SignalAt(x.t_ns, 0.0, biases, &w0, &f0);
   SignalAt(x.t_ns, 0.5 * dt_s, biases, &w1, &f1);
   SignalAt(x.t_ns, dt_s, biases, &w2, &f2);
-  const Derivative k1 = Evaluate(x.q_W_B, x.v_W, w0, f0);
-  const Derivative k2 =
+  const ImuDerivative k1 = Evaluate(x.q_W_B, x.v_W, w0, f0);
+  const ImuDerivative k2 =
       Evaluate(Add(x.q_W_B, 0.5 * dt_s * k1.dq), x.v_W + 0.5 * dt_s * k1.dv, w1, f1);
-  const Derivative k3 =
+  const ImuDerivative k3 =
       Evaluate(Add(x.q_W_B, 0.5 * dt_s * k2.dq), x.v_W + 0.5 * dt_s * k2.dv, w1, f1);
-  const Derivative k4 = Evaluate(Add(x.q_W_B, dt_s * k3.dq), x.v_W + dt_s * k3.dv, w2, f2);
+  const ImuDerivative k4 = Evaluate(Add(x.q_W_B, dt_s * k3.dq), x.v_W + dt_s * k3.dv, w2, f2);
   NavState next;
   next.q_W_B = Add(x.q_W_B, dt_s / 6.0 * (k1.dq + 2.0 * k2.dq + 2.0 * k3.dq + k4.dq)).normalized();
   next.v_W = x.v_W + dt_s / 6.0 * (k1.dv + 2.0 * k2.dv + 2.0 * k3.dv + k4.dv);

@@ -13,7 +13,7 @@ namespace mavloc {
 
 namespace {
 
-CornerPnpResult Fail(std::string reason) {
+CornerPnpResult PnpFailure(std::string reason) {
   CornerPnpResult result;
   result.reason = std::move(reason);
   return result;
@@ -61,8 +61,8 @@ CornerPnpResult CornerPnpFromCorrespondences(const std::vector<Eigen::Vector3d>&
                                              const std::vector<Eigen::Vector2d>& uv_ideal,
                                              const CameraSensor& camera,
                                              const CornerPnpOptions& options) {
-  if (X_W.size() != uv_ideal.size()) return Fail("point and pixel counts differ");
-  if (X_W.size() < 4) return Fail("fewer than 4 corners");
+  if (X_W.size() != uv_ideal.size()) return PnpFailure("point and pixel counts differ");
+  if (X_W.size() < 4) return PnpFailure("fewer than 4 corners");
 
   std::vector<cv::Point3d> object;
   std::vector<cv::Point2d> image;
@@ -89,9 +89,9 @@ CornerPnpResult CornerPnpFromCorrespondences(const std::vector<Eigen::Vector3d>&
                                   cv::SOLVEPNP_SQPNP);
     }
   } catch (const cv::Exception& e) {
-    return Fail(std::string("solvePnP failed: ") + e.what());
+    return PnpFailure(std::string("solvePnP failed: ") + e.what());
   }
-  if (count == 0) return Fail("solvePnP found no pose");
+  if (count == 0) return PnpFailure("solvePnP found no pose");
 
   // Best candidate by reprojection error (IPPE gives the two planar candidates).
   std::vector<double> rms(count);
@@ -106,11 +106,11 @@ CornerPnpResult CornerPnpFromCorrespondences(const std::vector<Eigen::Vector3d>&
     try {
       cv::solvePnPRefineLM(object, image, K_cv, cv::noArray(), rvec, tvec);
     } catch (const cv::Exception& e) {
-      return Fail(std::string("solvePnPRefineLM failed: ") + e.what());
+      return PnpFailure(std::string("solvePnPRefineLM failed: ") + e.what());
     }
   }
   const Pose T_C_W = PoseFromRvecTvec(rvec, tvec);
-  if (!T_C_W.p.allFinite() || !T_C_W.q.coeffs().allFinite()) return Fail("non-finite pose");
+  if (!T_C_W.p.allFinite() || !T_C_W.q.coeffs().allFinite()) return PnpFailure("non-finite pose");
 
   CornerPnpResult result;
   result.ok = true;
@@ -142,7 +142,7 @@ CornerPnpResult CornerPnp(const std::vector<TagObservation>& observations,
                                          camera.model.fv() * xy->y() + camera.model.cv()));
     }
   }
-  if (num_tags == 0) return Fail("no observed tag is in the map");
+  if (num_tags == 0) return PnpFailure("no observed tag is in the map");
   CornerPnpResult result = CornerPnpFromCorrespondences(X_W, uv_ideal, camera, options);
   result.num_tags = num_tags;
   return result;

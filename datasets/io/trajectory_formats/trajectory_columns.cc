@@ -5,6 +5,7 @@
 #include <cctype>
 
 #include "core/errors.h"
+#include "core/text.h"
 
 namespace mavloc {
 
@@ -59,11 +60,6 @@ Normalised Normalise(const std::string& raw) {
     if (c == '.' || c == ' ' || c == '-') c = '_';
   n.name = text;
   return n;
-}
-
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 bool OneOf(const std::string& s, std::initializer_list<const char*> options) {

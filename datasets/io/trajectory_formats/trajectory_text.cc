@@ -9,19 +9,11 @@
 #include <sstream>
 
 #include "core/errors.h"
+#include "core/text.h"
 
 namespace mavloc {
 
-namespace {
-
-std::string Trim(const std::string& text) {
-  const auto begin = text.find_first_not_of(" \t\r\n");
-  if (begin == std::string::npos) return "";
-  const auto end = text.find_last_not_of(" \t\r\n");
-  return text.substr(begin, end - begin + 1);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::vector<std::string> SplitTrajectoryLine(const std::string& line, bool comma_separated) {
   std::vector<std::string> fields;

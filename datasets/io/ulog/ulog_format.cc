@@ -25,7 +25,7 @@ constexpr PrimitiveName kPrimitives[] = {
 // Nested formats deeper than this are treated as a self-reference (PX4 nests 2-3 levels).
 constexpr int kMaxNesting = 16;
 
-std::string_view Trim(std::string_view s) {
+std::string_view TrimFormatText(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\0')) {
     s.remove_suffix(1);
@@ -39,8 +39,8 @@ bool ParseField(std::string_view text, FormatField* field, std::string* error) {
     *error = fmt::format("field '{}' has no 'type name' form", text);
     return false;
   }
-  std::string_view type = Trim(text.substr(0, space));
-  const std::string_view name = Trim(text.substr(space + 1));
+  std::string_view type = TrimFormatText(text.substr(0, space));
+  const std::string_view name = TrimFormatText(text.substr(space + 1));
   if (type.empty() || name.empty()) {
     *error = fmt::format("field '{}' has an empty type or name", text);
     return false;
@@ -139,12 +139,12 @@ bool ParseMessageFormat(std::string_view text, MessageFormat* format, std::strin
     *error = "format message without 'name:' prefix";
     return false;
   }
-  format->name = std::string(Trim(text.substr(0, colon)));
+  format->name = std::string(TrimFormatText(text.substr(0, colon)));
   format->fields.clear();
   std::string_view rest = text.substr(colon + 1);
   while (!rest.empty()) {
     const size_t semi = rest.find(';');
-    const std::string_view item = Trim(rest.substr(0, semi));
+    const std::string_view item = TrimFormatText(rest.substr(0, semi));
     if (!item.empty()) {
       FormatField field;
       if (!ParseField(item, &field, error)) return false;
