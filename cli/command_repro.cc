@@ -32,9 +32,10 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
       ->required();
   command->add_option("--set", args->settings, "Setting key=value (repeatable)");
   command
-      ->add_option("--jobs", args->jobs,
-                   "Worker processes (repro smoother; default: the core count). The numbers do "
-                   "not depend on it")
+      ->add_option(
+          "--jobs", args->jobs,
+          "Worker processes (reproductions that run as units: smoother, three-point, laser; "
+          "default: the core count). The numbers do not depend on it")
       ->check(WholeNumber(1, 1024));
   command->callback([args, exit_code] {
     const ReproEntry* entry = FindRepro(args->name);
@@ -53,8 +54,11 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
       options.jobs = args->jobs > 0 ? args->jobs : AvailableCores();
       options.worker_argv = {SelfPath(), "sweep-worker", "--grid", "{grid}"};
     } else if (args->jobs > 1) {
+      std::string with_units;
+      for (const auto& e : ReproRegistry())
+        if (e.unit) with_units += (with_units.empty() ? "" : ", ") + e.name;
       throw InputError("--jobs " + std::to_string(args->jobs) + ": repro " + args->name +
-                       " runs in one process (--jobs applies to repro smoother)");
+                       " runs in one process (--jobs applies to repro " + with_units + ")");
     }
     // Written whole into a fresh folder, then renamed into place (cli/output_folder.h).
     StagedFolder report(args->report, FolderKind::kReport);

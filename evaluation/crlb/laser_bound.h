@@ -41,12 +41,10 @@
 // position and attitude are those of this gauge (relative to the first keyframe), not errors
 // against the truth's frame.
 //
-// Limit: on long laser-only runs (laser-plane at 60 s: seeds 5, 8, 11, 16 of 1..20; 300 s) the
-// forward Schur complement of markov_information.cc, J_{k+1} = M + Q^-1 - Q^-1 Phi S_k^-1 Phi^T
-// Q^-1, loses its positive definiteness by cancellation (Q^-1 of the bias-walk floors is ~1e15
-// beside the weak laser information) and the bound reports "singular"; all of seeds 1..40 pass at
-// 30 s. The fix is the covariance form of the prediction, (Q + Phi J_k^-1 Phi^T)^-1, or a
-// square-root information recursion (not done).
+// Long runs: the forward pass of markov_information.cc runs in square-root form (no Q^-1, whose
+// bias-walk floors are ~1e15 beside the weak laser information; the information form lost its
+// positive definiteness at 60 s for 4 seeds of 20 and on euroc-laser). Left: the plane's Schur
+// complement C - B^T A^-1 B is still a subtraction, and fails for 1 seed of 16 at 300 s.
 #pragma once
 
 #include <Eigen/Core>

@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 
 namespace mavloc {
 
@@ -77,26 +78,73 @@ void MarkovInformation::AddTransition(const Eigen::MatrixXd& Phi, const Eigen::M
   d11.push_back(Phi.transpose() * Q_inv_s * Phi);
   d12.push_back(-Phi.transpose() * Q_inv_s);
   d22.push_back(Q_inv_s);
+  phi.push_back(Phi);
+  q.push_back(0.5 * (Q + Q.transpose()));
 }
+
+namespace {
+
+// One step of the forward pass in the square-root form (see the header): from J_k and the edge's
+// Phi, Q = R R^T, with T = Phi^-1 R and C = T^T J_k T,
+//   S_k^-1 = T (I + C)^-1 T^T,  G_k = T (I + C)^-1 R^-1,  J_{k+1} - M_{k+1} = R^-T (I + C)^-1 C
+//   R^-1.
+// False when Q is not positive definite or Phi is singular (the caller uses the information form).
+bool SquareRootStep(const Eigen::MatrixXd& J, const Eigen::MatrixXd& Phi, const Eigen::MatrixXd& Q,
+                    Eigen::MatrixXd* S_inv, Eigen::MatrixXd* G, Eigen::MatrixXd* J_pred) {
+  const Eigen::LLT<Eigen::MatrixXd> chol_Q(Q);
+  if (chol_Q.info() != Eigen::Success) return false;
+  const Eigen::MatrixXd R = chol_Q.matrixL();
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(Phi);
+  if (!lu.isInvertible()) return false;
+  const Eigen::MatrixXd T = lu.solve(R);
+  const int dim = static_cast<int>(J.rows());
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(dim, dim);
+  const Eigen::MatrixXd R_inv = R.triangularView<Eigen::Lower>().solve(I);
+  Eigen::MatrixXd C = T.transpose() * J * T;
+  C = 0.5 * (C + C.transpose()).eval();
+  const Eigen::LLT<Eigen::MatrixXd> chol(I + C);  // eigenvalues >= 1 when J is PSD
+  if (chol.info() != Eigen::Success) return false;
+  const Eigen::MatrixXd S = T * chol.solve(T.transpose());
+  *S_inv = 0.5 * (S + S.transpose());
+  *G = T * chol.solve(R_inv);
+  const Eigen::MatrixXd X = chol.solve(C);  // (I + C)^-1 C, symmetric
+  const Eigen::MatrixXd P = R_inv.transpose() * (0.5 * (X + X.transpose())) * R_inv;
+  *J_pred = 0.5 * (P + P.transpose());
+  return true;
+}
+
+}  // namespace
 
 MarkovBounds ComputeMarkovBounds(const MarkovInformation& info) {
   MarkovBounds bounds;
   const int n = info.size();
   if (n == 0) return bounds;
-  // Forward: J_k (filtering information) and S_k = J_k + D11_k (smoothing Schur complements).
-  std::vector<Eigen::MatrixXd> J(n), S(n), S_inv(n);
+  // Forward: J_k (filtering information), S_k^-1 = (J_k + D11_k)^-1 (smoothing Schur complements)
+  // and G_k = -S_k^-1 D12_k. With the edge's Phi and Q, in the square-root form (no Q^-1, no
+  // subtraction); else in the information form.
+  std::vector<Eigen::MatrixXd> J(n), S_inv(n), G(n);
+  const bool have_phi_q =
+      static_cast<int>(info.phi.size()) == n - 1 && static_cast<int>(info.q.size()) == n - 1;
   bool ok = true;
   J[0] = info.node[0];
   for (int k = 0; k < n; ++k) {
-    S[k] = k + 1 < n ? Eigen::MatrixXd(J[k] + info.d11[k]) : J[k];
-    auto inv = SpdInverse(S[k]);
+    Eigen::MatrixXd J_pred;
+    if (k + 1 < n && have_phi_q &&
+        SquareRootStep(J[k], info.phi[k], info.q[k], &S_inv[k], &G[k], &J_pred)) {
+      J[k + 1] = info.node[k + 1] + J_pred;
+      continue;
+    }
+    const Eigen::MatrixXd S = k + 1 < n ? Eigen::MatrixXd(J[k] + info.d11[k]) : J[k];
+    auto inv = SpdInverse(S);
     if (!inv) {
       ok = false;
       break;
     }
     S_inv[k] = *inv;
-    if (k + 1 < n)
+    if (k + 1 < n) {
+      G[k] = -S_inv[k] * info.d12[k];
       J[k + 1] = info.node[k + 1] + info.d22[k] - info.d12[k].transpose() * S_inv[k] * info.d12[k];
+    }
   }
   bounds.filtering.assign(n, std::nullopt);
   const int m = static_cast<int>(info.nuisance.rows());
@@ -115,8 +163,7 @@ MarkovBounds ComputeMarkovBounds(const MarkovInformation& info) {
   bounds.smoothing.assign(n, Eigen::MatrixXd());
   bounds.smoothing[n - 1] = S_inv[n - 1];
   for (int k = n - 2; k >= 0; --k) {
-    const Eigen::MatrixXd G = -S_inv[k] * info.d12[k];
-    const Eigen::MatrixXd C = S_inv[k] + G * bounds.smoothing[k + 1] * G.transpose();
+    const Eigen::MatrixXd C = S_inv[k] + G[k] * bounds.smoothing[k + 1] * G[k].transpose();
     bounds.smoothing[k] = 0.5 * (C + C.transpose());
   }
   if (m > 0 && static_cast<int>(info.coupling.size()) == n) {
@@ -124,10 +171,9 @@ MarkovBounds ComputeMarkovBounds(const MarkovInformation& info) {
     // Y_{n-1} = S_{n-1}^-1 z_{n-1}, Y_k = S_k^-1 z_k + G_k Y_{k+1}.
     std::vector<Eigen::MatrixXd> Y(n);
     Y[0] = info.coupling[0];
-    for (int k = 1; k < n; ++k)
-      Y[k] = info.coupling[k] - info.d12[k - 1].transpose() * (S_inv[k - 1] * Y[k - 1]);
+    for (int k = 1; k < n; ++k) Y[k] = info.coupling[k] + G[k - 1].transpose() * Y[k - 1];
     Y[n - 1] = S_inv[n - 1] * Y[n - 1];
-    for (int k = n - 2; k >= 0; --k) Y[k] = S_inv[k] * Y[k] - S_inv[k] * info.d12[k] * Y[k + 1];
+    for (int k = n - 2; k >= 0; --k) Y[k] = S_inv[k] * Y[k] + G[k] * Y[k + 1];
     Eigen::MatrixXd schur = info.nuisance;
     for (int k = 0; k < n; ++k) schur -= info.coupling[k].transpose() * Y[k];
     const std::optional<Eigen::MatrixXd> sigma_dd = SpdInverse(0.5 * (schur + schur.transpose()));

@@ -12,6 +12,16 @@
 //   complements S_k = J_k + D11_k and the backward selected-inversion pass
 //     Sigma_{n-1} = S_{n-1}^-1,  Sigma_k = S_k^-1 + G_k Sigma_{k+1} G_k^T,  G_k = -S_k^-1 D12_k
 //   (the information-form Rauch–Tung–Striebel recursion), linear in n; no dense inverse.
+// Numerics: with the transition's Phi and Q (AddTransition keeps them), the forward pass runs in a
+// square-root form that needs neither Q^-1 nor a subtraction. With Q = R R^T, T = Phi^-1 R and
+// C = T^T J_k T (Woodbury identity):
+//     S_k^-1 = T (I + C)^-1 T^T,   G_k = T (I + C)^-1 R^-1,
+//     J_{k+1} = M_{k+1} + R^-T (I + C)^-1 C R^-1   (= M_{k+1} + (Q + Phi J_k^-1 Phi^T)^-1),
+// where I + C has its eigenvalues >= 1. The information form D22 - D21 S^-1 D12 subtracts two
+// numbers of the size of Q^-1 (1e15 for the IMU's bias-walk floors over one keyframe interval)
+// to get one of the size of J_k, and loses the digits of the result; it remains the fallback
+// for edges without Phi and Q. H is then singular exactly when the last Schur complement
+// J_{n-1} is.
 // Optional static nuisance parameters d (m of them, e.g. a board's 2-DoF tilt to gravity) coupled
 // to every state: H = [[A, B], [B^T, C]] with A the block-tridiagonal part above. The smoothing
 // bound marginalises d out exactly (the CRLB with nuisance parameters, e.g. Kay, "Fundamentals of
@@ -40,6 +50,9 @@ struct MarkovInformation {
   std::vector<Eigen::MatrixXd> node;
   // Transition information of the edge k -> k+1; size n - 1.
   std::vector<Eigen::MatrixXd> d11, d12, d22;
+  // The transitions themselves (size n - 1 when every edge came from AddTransition; else empty and
+  // the forward pass uses the information form).
+  std::vector<Eigen::MatrixXd> phi, q;
   // Static nuisance parameters: B_k (dim of state k x m) per state (size n or empty) and C (m x m).
   std::vector<Eigen::MatrixXd> coupling;
   Eigen::MatrixXd nuisance;

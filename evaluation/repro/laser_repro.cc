@@ -18,8 +18,11 @@
 #include "core/rotation.h"
 #include "datasets/scenarios/euroc_laser.h"
 #include "datasets/scenarios/laser_plane.h"
+#include "evaluation/json_number.h"
 #include "evaluation/quantity_errors.h"
 #include "evaluation/report_writer.h"
+#include "evaluation/sweep/sweep_grid.h"
+#include "evaluation/sweep/sweep_runner.h"
 #include "solver/estimator.h"
 
 namespace mavloc {
@@ -245,16 +248,51 @@ void AppendCsv(const TableResult& table, std::string* csv) {
   }
 }
 
-}  // namespace
+// A run's result as JSON and back (a unit's result on the sweep machinery; NaN as null).
+nlohmann::json RunJson(const RunResult& run) {
+  nlohmann::json quantities = nlohmann::json::object();
+  for (const auto& [name, q] : run.quantities)
+    quantities[name] = {{"convergence_s", JsonNumber(q.convergence_s)},
+                        {"mae_after", JsonNumber(q.mae_after)},
+                        {"final_error", JsonNumber(q.final_error)},
+                        {"mae_all", JsonNumber(q.mae_all)},
+                        {"mae_late", JsonNumber(q.mae_late)}};
+  return {{"seed", run.seed},         {"converged", run.converged}, {"duration_s", run.duration_s},
+          {"quantities", quantities}, {"failures", run.failures},   {"note", run.note}};
+}
 
-int RunLaserRepro(const ReproOptions& options) {
+RunResult RunFromJson(const nlohmann::json& j) {
+  RunResult run;
+  run.seed = j.at("seed").get<uint64_t>();
+  run.converged = j.at("converged").get<bool>();
+  run.duration_s = j.at("duration_s").get<double>();
+  run.failures = j.at("failures").get<int>();
+  run.note = j.at("note").get<std::string>();
+  for (const auto& [name, q] : j.at("quantities").items())
+    run.quantities[name] = {NumberFromJson(q.at("convergence_s")),
+                            NumberFromJson(q.at("mae_after")), NumberFromJson(q.at("final_error")),
+                            NumberFromJson(q.at("mae_all")), NumberFromJson(q.at("mae_late"))};
+  return run;
+}
+
+// The `--set` settings, parsed the same way in the report's process and in every sweep worker.
+struct LaserSettings {
+  std::map<std::string, std::string> ekf;  // "ekf.KEY=VALUE": laser-ekf options
+  double duration_s = 60.0;
+  int euroc_runs = 5;
+  bool with_euroc = true;
+  std::string data;
+  Bands bands;
+};
+
+LaserSettings ParseLaserSettings(const std::map<std::string, std::string>& settings) {
   static const std::set<std::string> kKnown = {"duration_s",   "euroc_runs",     "euroc",
                                                "data",         "band_alpha_deg", "band_angle_deg",
                                                "band_v_o_m_s", "band_d_m"};
-  std::map<std::string, std::string> ekf_settings;  // "ekf.KEY=VALUE": laser-ekf options
-  for (const auto& [key, value] : options.settings) {
+  LaserSettings out;
+  for (const auto& [key, value] : settings) {
     if (key.rfind("ekf.", 0) == 0) {
-      ekf_settings[key.substr(4)] = value;
+      out.ekf[key.substr(4)] = value;
       continue;
     }
     if (!kKnown.count(key)) {
@@ -263,66 +301,118 @@ int RunLaserRepro(const ReproOptions& options) {
       throw InputError(fmt::format("repro laser: unknown setting '{}' (known: {})", key, known));
     }
   }
+  out.duration_s = GetDoubleSetting(settings, "duration_s", 60.0);
+  out.euroc_runs = GetIntSetting(settings, "euroc_runs", 5);
+  out.with_euroc = GetBoolSetting(settings, "euroc", true);
+  out.data = GetStringSetting(settings, "data", "");
+  out.bands.si["alpha"] = GetDoubleSetting(settings, "band_alpha_deg", 2.0) * kDeg;
+  out.bands.si["roll"] = out.bands.si["pitch"] =
+      GetDoubleSetting(settings, "band_angle_deg", 2.0) * kDeg;
+  out.bands.si["v_o"] = GetDoubleSetting(settings, "band_v_o_m_s", 0.1);
+  out.bands.si["d"] = GetDoubleSetting(settings, "band_d_m", 0.1);
+  if (!(out.duration_s > 0.0 && out.duration_s <= kMaxScenarioDurationS))
+    throw InputError(fmt::format("--set duration_s={}: outside (0, {}] s (kMaxScenarioDurationS)",
+                                 out.duration_s, kMaxScenarioDurationS));
+  return out;
+}
+
+// The units' names: one per table of simulated runs, one for the three EuRoC tables (which share
+// the dataset of a seed).
+constexpr const char* kNoBiasUnit = "laser-plane";
+constexpr const char* kBiasUnit = "laser-plane-bias";
+constexpr const char* kEurocUnit = "euroc-laser";
+
+// One unit: {"runs": [RunResult, ...]} (one run; three for euroc-laser: raw, bias-corrected and
+// ground-truth IMU) and, for euroc-laser, the distance range of the data.
+nlohmann::json LaserUnitResult(const LaserSettings& settings, const std::string& unit,
+                               uint64_t seed) {
+  nlohmann::json runs = nlohmann::json::array();
+  ScenarioOptions scenario;
+  scenario.seed = seed;
+  EstimatorOptions raw_options(settings.ekf);
+  raw_options.Set("init_seed", std::to_string(seed));
+  if (unit == kNoBiasUnit || unit == kBiasUnit) {
+    scenario.duration_s = settings.duration_s;
+    scenario.settings["bias"] = unit == kBiasUnit ? "true" : "false";
+    runs.push_back(
+        RunJson(EvaluateRun(GenerateLaserPlane(scenario), raw_options, settings.bands, seed)));
+    return {{"runs", runs}};
+  }
+  if (unit != kEurocUnit) throw InputError("repro laser: no unit '" + unit + "'");
+  if (!settings.data.empty()) scenario.settings["data"] = settings.data;
+  const Dataset dataset = GenerateEurocLaser(scenario);
+  EstimatorOptions corrected_options = raw_options;
+  corrected_options.Set("bias_from_ground_truth", "true");
+  runs.push_back(RunJson(EvaluateRun(dataset, raw_options, settings.bands, seed)));
+  runs.push_back(RunJson(EvaluateRun(dataset, corrected_options, settings.bands, seed)));
+  scenario.settings["imu"] = "from_ground_truth";
+  runs.push_back(
+      RunJson(EvaluateRun(GenerateEurocLaser(scenario), raw_options, settings.bands, seed)));
+  return {{"runs", runs}, {"distance_range_m", dataset.scenario_info.at("distance_range_m")}};
+}
+
+}  // namespace
+
+nlohmann::json RunLaserReproUnit(const std::map<std::string, std::string>& settings,
+                                 const std::string& unit, uint64_t seed) {
+  return LaserUnitResult(ParseLaserSettings(settings), unit, seed);
+}
+
+int RunLaserRepro(const ReproOptions& options) {
+  const LaserSettings settings = ParseLaserSettings(options.settings);
+  const std::map<std::string, std::string>& ekf_settings = settings.ekf;
   const int runs = options.runs.value_or(kLaserDefaultRuns);
   if (runs < 1) throw InputError("repro laser: --runs must be >= 1");
-  const double duration_s = GetDoubleSetting(options.settings, "duration_s", 60.0);
-  const int euroc_runs = std::min(runs, GetIntSetting(options.settings, "euroc_runs", 5));
-  const bool with_euroc = GetBoolSetting(options.settings, "euroc", true);
-  const std::string data = GetStringSetting(options.settings, "data", "");
-  Bands bands;
-  bands.si["alpha"] = GetDoubleSetting(options.settings, "band_alpha_deg", 2.0) * kDeg;
-  bands.si["roll"] = bands.si["pitch"] =
-      GetDoubleSetting(options.settings, "band_angle_deg", 2.0) * kDeg;
-  bands.si["v_o"] = GetDoubleSetting(options.settings, "band_v_o_m_s", 0.1);
-  bands.si["d"] = GetDoubleSetting(options.settings, "band_d_m", 0.1);
-  if (!(duration_s > 0.0 && duration_s <= kMaxScenarioDurationS))
-    throw InputError(fmt::format("--set duration_s={}: outside (0, {}] s (kMaxScenarioDurationS)",
-                                 duration_s, kMaxScenarioDurationS));
+  if (options.jobs < 1) throw InputError("repro laser: --jobs must be >= 1");
+  const double duration_s = settings.duration_s;
+  const int euroc_runs = std::min(runs, settings.euroc_runs);
+  const bool with_euroc = settings.with_euroc;
+  Bands bands = settings.bands;
 
-  std::vector<TableResult> tables;
-  for (const bool bias : {false, true}) {
-    TableResult table;
-    table.name = bias ? "simulated, with bias" : "simulated, no bias";
-    for (int k = 0; k < runs; ++k) {
-      const uint64_t seed = options.seed + static_cast<uint64_t>(k);
-      ReportProgress("repro laser", fmt::format("{} run {}/{}", table.name, k + 1, runs));
-      ScenarioOptions scenario;
-      scenario.seed = seed;
-      scenario.duration_s = duration_s;
-      scenario.settings["bias"] = bias ? "true" : "false";
-      const Dataset dataset = GenerateLaserPlane(scenario);
-      EstimatorOptions estimator_options(ekf_settings);
-      estimator_options.Set("init_seed", std::to_string(seed));
-      table.runs.push_back(EvaluateRun(dataset, estimator_options, bands, seed));
+  // Units: (laser-plane, seed), (laser-plane-bias, seed) for every seed, (euroc-laser, seed) for
+  // the first euroc_runs seeds; grid index = unit name index * runs + k. Every result goes through
+  // its JSON text, here or in a sweep worker, so --jobs changes nothing but the time.
+  std::vector<std::string> unit_names = {kNoBiasUnit, kBiasUnit};
+  if (with_euroc) unit_names.push_back(kEurocUnit);
+  std::vector<size_t> indices;
+  for (size_t u = 0; u < unit_names.size(); ++u)
+    for (int k = 0; k < (unit_names[u] == kEurocUnit ? euroc_runs : runs); ++k)
+      indices.push_back(u * static_cast<size_t>(runs) + static_cast<size_t>(k));
+  std::vector<nlohmann::json> results;
+  if (options.jobs > 1) {
+    SweepGrid grid;
+    grid.scenarios = unit_names;
+    for (int k = 0; k < runs; ++k) grid.seeds.push_back(options.seed + static_cast<uint64_t>(k));
+    grid.repro = "laser";
+    grid.repro_settings = options.settings;
+    SweepRunOptions run_options;
+    run_options.jobs = options.jobs;
+    run_options.worker_argv = options.worker_argv;
+    results = RunSweepUnits(grid, indices, run_options);
+  } else {
+    for (const size_t index : indices) {
+      const std::string& unit = unit_names[index / static_cast<size_t>(runs)];
+      const int k = static_cast<int>(index % static_cast<size_t>(runs));
+      ReportProgress("repro laser", fmt::format("{} run {}/{}", unit, k + 1,
+                                                unit == kEurocUnit ? euroc_runs : runs));
+      results.push_back(nlohmann::json::parse(
+          LaserUnitResult(settings, unit, options.seed + static_cast<uint64_t>(k)).dump()));
     }
-    tables.push_back(std::move(table));
   }
+
+  std::vector<TableResult> tables = {{"simulated, no bias", {}}, {"simulated, with bias", {}}};
   std::string euroc_note;
   if (with_euroc) {
-    TableResult raw, corrected, ideal;
-    raw.name = "euroc, raw IMU";
-    corrected.name = "euroc, IMU bias-corrected";
-    ideal.name = "euroc, IMU from ground truth";
-    for (int k = 0; k < euroc_runs; ++k) {
-      const uint64_t seed = options.seed + static_cast<uint64_t>(k);
-      ReportProgress("repro laser", fmt::format("euroc run {}/{}", k + 1, euroc_runs));
-      ScenarioOptions scenario;
-      scenario.seed = seed;
-      if (!data.empty()) scenario.settings["data"] = data;
-      const Dataset dataset = GenerateEurocLaser(scenario);
-      if (k == 0) euroc_note = dataset.scenario_info.at("distance_range_m");
-      EstimatorOptions raw_options(ekf_settings);
-      raw_options.Set("init_seed", std::to_string(seed));
-      EstimatorOptions corrected_options = raw_options;
-      corrected_options.Set("bias_from_ground_truth", "true");
-      raw.runs.push_back(EvaluateRun(dataset, raw_options, bands, seed));
-      corrected.runs.push_back(EvaluateRun(dataset, corrected_options, bands, seed));
-      scenario.settings["imu"] = "from_ground_truth";
-      ideal.runs.push_back(EvaluateRun(GenerateEurocLaser(scenario), raw_options, bands, seed));
-    }
-    tables.push_back(std::move(raw));
-    tables.push_back(std::move(corrected));
-    tables.push_back(std::move(ideal));
+    tables.push_back({"euroc, raw IMU", {}});
+    tables.push_back({"euroc, IMU bias-corrected", {}});
+    tables.push_back({"euroc, IMU from ground truth", {}});
+  }
+  for (size_t i = 0; i < indices.size(); ++i) {
+    const size_t u = indices[i] / static_cast<size_t>(runs);
+    const nlohmann::json& unit_runs = results[i].at("runs");
+    for (size_t r = 0; r < unit_runs.size(); ++r)
+      tables[u == 2 ? 2 + r : u].runs.push_back(RunFromJson(unit_runs[r]));
+    if (u == 2 && euroc_note.empty()) euroc_note = results[i].at("distance_range_m");
   }
 
   // ---- report ----
@@ -333,6 +423,7 @@ int RunLaserRepro(const ReproOptions& options) {
       "2012, section 5";
   json["estimator"] = "laser-ekf";
   json["estimator_options"] = ekf_settings;
+  json["jobs"] = options.jobs;
   json["runs"] = runs;
   json["first_seed"] = options.seed;
   json["laser_plane_duration_s"] = duration_s;

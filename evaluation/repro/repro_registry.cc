@@ -15,11 +15,11 @@ namespace mavloc {
 const std::vector<ReproEntry>& ReproRegistry() {
   static const std::vector<ReproEntry> kEntries = {
       {"three-point", "three-point paper Table I (2p vs 3p) and a noise x height sweep",
-       RunThreePointRepro, nullptr},
+       RunThreePointRepro, RunThreePointReproUnit},
       {"pixhawk", "PIXHAWK fig. 15 (pnp vs upright-2p), sweep, 4 x 1-D KF, time stamps",
        RunPixhawkRepro, nullptr},
       {"laser", "laser-spot paper 5.1 (laser-plane, with/without bias) and 5.2 (euroc-laser)",
-       RunLaserRepro, nullptr},
+       RunLaserRepro, RunLaserReproUnit},
       {"apriltag", "AprilTag paper V: render -> detect -> EKF; hover Monte-Carlo, dynamic, NEES",
        RunAprilTagRepro, nullptr},
       {"smoother", "issue 7: smoother vs its seed and the papers' filter, every visual scenario",

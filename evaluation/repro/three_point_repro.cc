@@ -22,7 +22,10 @@
 #include "core/rotation.h"
 #include "datasets/scenarios/three_point_hover.h"
 #include "evaluation/comparison.h"
+#include "evaluation/json_number.h"
 #include "evaluation/report_writer.h"
+#include "evaluation/sweep/sweep_grid.h"
+#include "evaluation/sweep/sweep_runner.h"
 #include "solver/three_point/triangle_angle_filter.h"
 
 namespace mavloc {
@@ -60,6 +63,14 @@ struct ErrorStat {
     }
     count += static_cast<long>(values.size());
     run_means.push_back(run_sum / static_cast<double>(values.size()));
+  }
+  // One run given by its totals (a unit's JSON result): the same sums as AddRun of its values.
+  void AddRunTotals(double run_sum, double run_sum2, long run_count) {
+    if (run_count <= 0) return;
+    sum += run_sum;
+    sum2 += run_sum2;
+    count += run_count;
+    run_means.push_back(run_sum / static_cast<double>(run_count));
   }
   double Mean() const { return count > 0 ? sum / static_cast<double>(count) : kNaN; }
   double Rms() const { return count > 0 ? std::sqrt(sum2 / static_cast<double>(count)) : kNaN; }
@@ -140,18 +151,118 @@ void AccumulateRun(const Dataset& d, const ThreePointVariant& variant, VariantSt
   }
 }
 
-std::map<std::string, VariantStats> RunConfig(const Settings& settings,
-                                              const std::vector<ThreePointVariant>& variants,
-                                              int runs, uint64_t seed, const std::string& label) {
-  std::map<std::string, VariantStats> stats;
-  for (int k = 0; k < runs; ++k) {
-    ReportProgress("repro three-point", fmt::format("{} run {}/{}", label, k + 1, runs));
-    ScenarioOptions scenario;
-    scenario.seed = seed + static_cast<uint64_t>(k);
-    scenario.settings = settings;
-    const Dataset d = GenerateThreePointHover(scenario);
-    for (const auto& variant : variants) AccumulateRun(d, variant, &stats[variant.label]);
+// One run's statistics as JSON (the sums of its frames per quantity), and the merge of runs in
+// seed order: the report is made from these whether the runs ran here or in sweep workers.
+nlohmann::json RunStatsToJson(const VariantStats& run) {
+  nlohmann::json quantities = nlohmann::json::object();
+  for (const auto& [name, stat] : run.quantities)
+    quantities[name] = {
+        {"sum", JsonNumber(stat.sum)}, {"sum2", JsonNumber(stat.sum2)}, {"count", stat.count}};
+  return {{"quantities", quantities},
+          {"failures", run.failures},
+          {"failure_reasons", run.failure_reasons},
+          {"runtime_s", run.runtime_s}};
+}
+
+void AddRunFromJson(const nlohmann::json& run, VariantStats* stats) {
+  for (const auto& [name, q] : run.at("quantities").items())
+    stats->quantities[name].AddRunTotals(NumberFromJson(q.at("sum")), NumberFromJson(q.at("sum2")),
+                                         q.at("count").get<long>());
+  stats->failures += run.at("failures").get<long>();
+  for (const auto& [reason, count] : run.at("failure_reasons").items())
+    stats->failure_reasons[reason] += count.get<int>();
+  stats->runtime_s += run.at("runtime_s").get<double>();
+}
+
+// A configuration of the reproduction: table1 or one row of the sensitivity sweep.
+struct ThreePointConfig {
+  std::string label;  // "table1", "row0", "row1", ...: the unit's scenario on the sweep machinery
+  Settings scenario;  // the scenario's settings
+  double noise_deg = 0.0, height_m = 0.0;
+  std::optional<double> accel_bias_m_s2;  // set on the biased-accelerometer rows
+  std::vector<ThreePointVariant> variants;
+};
+
+// Everything the `--set` settings determine: the same in the report's process and in every
+// sweep worker, so a unit names its configuration by label only.
+struct ThreePointPlan {
+  Settings scenario_settings;  // the settings that go to the scenario
+  std::vector<double> noise_levels, heights;
+  double bias_rows_accel_m_s2 = 0.0;
+  double bearing_noise_deg = 1.0;
+  Dataset reference;  // noiseless, default geometry: validates the settings, gives the map
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  std::vector<ThreePointConfig> configs;  // table1, then the sensitivity rows in report order
+};
+
+std::vector<double> ParseList(const Settings& settings, const std::string& key,
+                              const std::string& fallback);
+
+ThreePointPlan MakeThreePointPlan(const Settings& settings) {
+  ThreePointPlan plan;
+  plan.scenario_settings = settings;
+  plan.noise_levels = ParseList(settings, "noise_levels_deg", "0.001,0.01,0.03,0.1,0.3,1");
+  plan.heights = ParseList(settings, "heights_m", "0.2,0.4,0.6,0.8,1");
+  plan.bias_rows_accel_m_s2 = GetDoubleSetting(settings, "bias_rows_accel_bias_m_s2", 0.05);
+  plan.scenario_settings.erase("noise_levels_deg");
+  plan.scenario_settings.erase("heights_m");
+  plan.scenario_settings.erase("bias_rows_accel_bias_m_s2");
+
+  ScenarioOptions probe;
+  probe.settings = plan.scenario_settings;
+  probe.settings["bearing_noise_deg"] = "0";
+  plan.reference = GenerateThreePointHover(probe);  // validates the settings
+  plan.bearing_noise_deg = plan.scenario_settings.count("bearing_noise_deg")
+                               ? GetDoubleSetting(plan.scenario_settings, "bearing_noise_deg", 1.0)
+                               : 1.0;
+  const auto& landmarks = plan.reference.map.landmarks_W;
+  plan.centroid = (landmarks.at(1) + landmarks.at(2) + landmarks.at(3)) / 3.0;
+
+  plan.configs.push_back({"table1", plan.scenario_settings, plan.bearing_noise_deg, 0.0,
+                          std::nullopt, MakeVariants(plan.bearing_noise_deg, true)});
+  auto add_row = [&](double noise, double h, std::optional<double> accel_bias) {
+    Settings s = plan.scenario_settings;
+    s["bearing_noise_deg"] = fmt::format("{}", noise);
+    s["start_x"] = fmt::format("{}", plan.centroid.x());
+    s["start_y"] = fmt::format("{}", plan.centroid.y());
+    s["start_z"] = fmt::format("{}", 1.25 * h);
+    s["goal_x"] = fmt::format("{}", plan.centroid.x() + 0.5 * h);
+    s["goal_y"] = fmt::format("{}", plan.centroid.y() + 0.3 * h);
+    s["goal_z"] = fmt::format("{}", h);
+    if (accel_bias) s["accel_bias_m_s2"] = fmt::format("{}", *accel_bias);
+    const std::string label = fmt::format("row{}", plan.configs.size() - 1);
+    plan.configs.push_back({label, s, noise, h, accel_bias, MakeVariants(noise, false)});
+  };
+  for (const double noise : plan.noise_levels)
+    for (const double h : plan.heights) add_row(noise, h, std::nullopt);
+  // The same noise axis with a biased accelerometer (the gravity EKF cannot see the bias, so its
+  // roll/pitch is off by about bias / g): where the triangle's information could pay off.
+  if (plan.bias_rows_accel_m_s2 > 0.0)
+    for (const double noise : plan.noise_levels) add_row(noise, 0.4, plan.bias_rows_accel_m_s2);
+  return plan;
+}
+
+// One Monte-Carlo run of one configuration: every variant on the same simulated dataset.
+nlohmann::json RunThreePointUnit(const ThreePointConfig& config, uint64_t seed) {
+  ScenarioOptions scenario;
+  scenario.seed = seed;
+  scenario.settings = config.scenario;
+  const Dataset d = GenerateThreePointHover(scenario);
+  nlohmann::json variants = nlohmann::json::object();
+  for (const auto& variant : config.variants) {
+    VariantStats run;
+    AccumulateRun(d, variant, &run);
+    variants[variant.label] = RunStatsToJson(run);
   }
+  return {{"variants", variants}};
+}
+
+std::map<std::string, VariantStats> MergeRuns(const ThreePointConfig& config,
+                                              const std::vector<nlohmann::json>& runs) {
+  std::map<std::string, VariantStats> stats;
+  for (const auto& run : runs)
+    for (const auto& variant : config.variants)
+      AddRunFromJson(run.at("variants").at(variant.label), &stats[variant.label]);
   return stats;
 }
 
@@ -267,38 +378,64 @@ bool BeatsOnEveryColumn(const VariantStats& three, const VariantStats& two) {
 
 }  // namespace
 
+nlohmann::json RunThreePointReproUnit(const std::map<std::string, std::string>& settings,
+                                      const std::string& label, uint64_t seed) {
+  const ThreePointPlan plan = MakeThreePointPlan(settings);
+  for (const auto& config : plan.configs)
+    if (config.label == label) return RunThreePointUnit(config, seed);
+  throw InputError("repro three-point: no configuration '" + label + "'");
+}
+
 int RunThreePointRepro(const ReproOptions& options) {
   const int runs = options.runs.value_or(kThreePointDefaultRuns);
   if (runs < 1) throw InputError("repro three-point: --runs must be >= 1");
-  Settings scenario_settings = options.settings;
-  const std::vector<double> noise_levels =
-      ParseList(options.settings, "noise_levels_deg", "0.001,0.01,0.03,0.1,0.3,1");
-  const std::vector<double> heights = ParseList(options.settings, "heights_m", "0.2,0.4,0.6,0.8,1");
-  const double bias_rows_accel_m_s2 =
-      GetDoubleSetting(options.settings, "bias_rows_accel_bias_m_s2", 0.05);
-  scenario_settings.erase("noise_levels_deg");
-  scenario_settings.erase("heights_m");
-  scenario_settings.erase("bias_rows_accel_bias_m_s2");
+  if (options.jobs < 1) throw InputError("repro three-point: --jobs must be >= 1");
+  const ThreePointPlan plan = MakeThreePointPlan(options.settings);
+  const Settings& scenario_settings = plan.scenario_settings;
+  const Dataset& reference = plan.reference;
+  const Eigen::Vector3d& centroid = plan.centroid;
+  const std::vector<double>& noise_levels = plan.noise_levels;
+  const std::vector<double>& heights = plan.heights;
+  const double bias_rows_accel_m_s2 = plan.bias_rows_accel_m_s2;
+  const double bearing_noise_deg = plan.bearing_noise_deg;
   const std::string seeds = fmt::format("{}..{}", options.seed, options.seed + runs - 1);
 
+  // Every (configuration, seed) is a unit of the sweep machinery (unit index = configuration *
+  // runs + k); each result goes through its JSON text, here or in a worker, so --jobs changes
+  // nothing but the time.
+  std::vector<nlohmann::json> units;
+  if (options.jobs > 1) {
+    SweepGrid grid;
+    for (const auto& config : plan.configs) grid.scenarios.push_back(config.label);
+    for (int k = 0; k < runs; ++k) grid.seeds.push_back(options.seed + static_cast<uint64_t>(k));
+    grid.repro = "three-point";
+    grid.repro_settings = options.settings;
+    SweepRunOptions run_options;
+    run_options.jobs = options.jobs;
+    run_options.worker_argv = options.worker_argv;
+    std::vector<size_t> indices(plan.configs.size() * static_cast<size_t>(runs));
+    for (size_t i = 0; i < indices.size(); ++i) indices[i] = i;
+    units = RunSweepUnits(grid, indices, run_options);
+  } else {
+    for (const auto& config : plan.configs) {
+      for (int k = 0; k < runs; ++k) {
+        ReportProgress("repro three-point", fmt::format("{} run {}/{}", config.label, k + 1, runs));
+        units.push_back(nlohmann::json::parse(
+            RunThreePointUnit(config, options.seed + static_cast<uint64_t>(k)).dump()));
+      }
+    }
+  }
+  auto stats_of = [&](size_t c) {
+    return MergeRuns(plan.configs[c], std::vector<nlohmann::json>(
+                                          units.begin() + static_cast<long>(c * runs),
+                                          units.begin() + static_cast<long>((c + 1) * runs)));
+  };
+
   // ---- table1: the scenario as configured (the paper's noise by default). ----
-  ScenarioOptions probe;
-  probe.settings = scenario_settings;
-  probe.settings["bearing_noise_deg"] = "0";
-  const Dataset reference = GenerateThreePointHover(probe);  // validates the settings
-  const double bearing_noise_deg =
-      scenario_settings.count("bearing_noise_deg")
-          ? GetDoubleSetting(scenario_settings, "bearing_noise_deg", 1.0)
-          : 1.0;
-  const auto table1 = RunConfig(scenario_settings, MakeVariants(bearing_noise_deg, true), runs,
-                                options.seed, "table1");
+  const auto table1 = stats_of(0);
   const FirstOrder first_order = FirstOrderTiltSigma(scenario_settings, bearing_noise_deg);
 
-  // ---- sensitivity: bearing noise x hover height. ----
-  const Eigen::Vector3d centroid =
-      (reference.map.landmarks_W.at(1) + reference.map.landmarks_W.at(2) +
-       reference.map.landmarks_W.at(3)) /
-      3.0;
+  // ---- sensitivity: bearing noise x hover height, then the biased-accelerometer rows. ----
   struct GridRow {
     double noise_deg = 0.0, height_m = 0.0;
     std::optional<double> accel_bias_m_s2;  // set on the biased-accelerometer rows
@@ -306,35 +443,18 @@ int RunThreePointRepro(const ReproOptions& options) {
     FirstOrder first_order;
     bool beats = false;
   };
-  auto run_row = [&](double noise, double h, std::optional<double> accel_bias) {
-    Settings s = scenario_settings;
-    s["bearing_noise_deg"] = fmt::format("{}", noise);
-    s["start_x"] = fmt::format("{}", centroid.x());
-    s["start_y"] = fmt::format("{}", centroid.y());
-    s["start_z"] = fmt::format("{}", 1.25 * h);
-    s["goal_x"] = fmt::format("{}", centroid.x() + 0.5 * h);
-    s["goal_y"] = fmt::format("{}", centroid.y() + 0.3 * h);
-    s["goal_z"] = fmt::format("{}", h);
-    if (accel_bias) s["accel_bias_m_s2"] = fmt::format("{}", *accel_bias);
-    GridRow row;
-    row.noise_deg = noise;
-    row.height_m = h;
-    row.accel_bias_m_s2 = accel_bias;
-    row.stats = RunConfig(s, MakeVariants(noise, false), runs, options.seed,
-                          fmt::format("sensitivity noise {} deg, height {} m{}", noise, h,
-                                      accel_bias ? ", accel bias" : ""));
-    row.first_order = FirstOrderTiltSigma(s, noise);
-    row.beats = BeatsOnEveryColumn(row.stats.at("three-point"), row.stats.at("two-point"));
-    return row;
-  };
   std::vector<GridRow> grid;
-  for (const double noise : noise_levels)
-    for (const double h : heights) grid.push_back(run_row(noise, h, std::nullopt));
-  // The same noise axis with a biased accelerometer (the gravity EKF cannot see the bias, so its
-  // roll/pitch is off by about bias / g): where the triangle's information could pay off.
-  if (bias_rows_accel_m_s2 > 0.0)
-    for (const double noise : noise_levels)
-      grid.push_back(run_row(noise, 0.4, bias_rows_accel_m_s2));
+  for (size_t c = 1; c < plan.configs.size(); ++c) {
+    const ThreePointConfig& config = plan.configs[c];
+    GridRow row;
+    row.noise_deg = config.noise_deg;
+    row.height_m = config.height_m;
+    row.accel_bias_m_s2 = config.accel_bias_m_s2;
+    row.stats = stats_of(c);
+    row.first_order = FirstOrderTiltSigma(config.scenario, config.noise_deg);
+    row.beats = BeatsOnEveryColumn(row.stats.at("three-point"), row.stats.at("two-point"));
+    grid.push_back(std::move(row));
+  }
 
   // ---- report.json ----
   nlohmann::json json;
@@ -343,6 +463,7 @@ int RunThreePointRepro(const ReproOptions& options) {
       "GPS Denied Environments, ECMR 2013, Table I";
   json["scenario"] = "three-point-hover";
   json["runs"] = runs;
+  json["jobs"] = options.jobs;
   json["seeds"] = seeds;
   json["error_definition"] = kErrorDefinition;
   nlohmann::json t1;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 
 #include "core/random.h"
 #include "evaluation/crlb/markov_information.h"
@@ -66,9 +67,12 @@ MarkovInformation InformationOf(const Chain& c) {
   return info;
 }
 
-TEST(CrlbMarkov, FilteringAndSmoothingBoundsEqualKalmanAndRtsCovariances) {
-  const Chain c = MakeChain(40, 4, 11);
-  // Kalman filter and RTS smoother (covariance form).
+// Kalman filter and RTS smoother in covariance form: P_{k|k} and P_{k|N}.
+struct KalmanCovariances {
+  std::vector<Eigen::MatrixXd> filtering, smoothing;
+};
+
+KalmanCovariances KalmanAndRts(const Chain& c) {
   std::vector<Eigen::MatrixXd> P_filt(c.n), P_pred(c.n), P_smooth(c.n);
   for (int k = 0; k < c.n; ++k) {
     P_pred[k] =
@@ -90,6 +94,14 @@ TEST(CrlbMarkov, FilteringAndSmoothingBoundsEqualKalmanAndRtsCovariances) {
     const Eigen::MatrixXd G = P_filt[k] * c.F[k].transpose() * P_pred[k + 1].inverse();
     P_smooth[k] = P_filt[k] + G * (P_smooth[k + 1] - P_pred[k + 1]) * G.transpose();
   }
+  return {P_filt, P_smooth};
+}
+
+TEST(CrlbMarkov, FilteringAndSmoothingBoundsEqualKalmanAndRtsCovariances) {
+  const Chain c = MakeChain(40, 4, 11);
+  const KalmanCovariances kalman = KalmanAndRts(c);
+  const std::vector<Eigen::MatrixXd>& P_filt = kalman.filtering;
+  const std::vector<Eigen::MatrixXd>& P_smooth = kalman.smoothing;
 
   const MarkovBounds bounds = ComputeMarkovBounds(InformationOf(c));
   ASSERT_TRUE(bounds.smoothing_ok);
@@ -101,6 +113,40 @@ TEST(CrlbMarkov, FilteringAndSmoothingBoundsEqualKalmanAndRtsCovariances) {
   // Smoothing never above filtering (more data).
   for (int k = 0; k < c.n; ++k)
     EXPECT_LE(bounds.smoothing[k].trace(), bounds.filtering[k]->trace() * (1 + 1e-12));
+}
+
+// A nearly constant state (process noise 1e-15 beside unit measurement noise, as the IMU bias
+// walks beside weak laser information): the information form's D22 - D21 S^-1 D12 subtracts
+// numbers near 1e15 and loses every digit of the result; the square-root form keeps the Kalman
+// filter's and RTS smoother's covariances.
+TEST(CrlbMarkov, StiffProcessNoiseKeepsItsPrecision) {
+  Chain c;
+  c.n = 300;
+  c.P0 = Eigen::MatrixXd::Identity(2, 2) * 100.0;
+  Eigen::MatrixXd F(2, 2), H(1, 2);
+  F << 1.0, 0.1, 0.0, 1.0;  // position and a drift rate
+  H << 1.0, 0.0;
+  for (int k = 0; k < c.n; ++k) {
+    c.H.push_back(H);
+    c.R.push_back(Eigen::MatrixXd::Identity(1, 1));
+    if (k + 1 < c.n) {
+      c.F.push_back(F);
+      Eigen::MatrixXd Q(2, 2);
+      Q << 1e-15, 0.0, 0.0, 1e-17;
+      c.Q.push_back(Q);
+    }
+  }
+  const KalmanCovariances kalman = KalmanAndRts(c);
+  const MarkovBounds bounds = ComputeMarkovBounds(InformationOf(c));
+  ASSERT_TRUE(bounds.smoothing_ok);
+  for (int k = 0; k < c.n; k += 10) {
+    ASSERT_TRUE(bounds.filtering[k].has_value()) << k;
+    EXPECT_LT(RelativeDifference(*bounds.filtering[k], kalman.filtering[k]), 1e-6) << k;
+    EXPECT_LT(RelativeDifference(bounds.smoothing[k], kalman.smoothing[k]), 1e-6) << k;
+  }
+  // After 300 unit-noise measurements of an almost constant position, its bound is about
+  // 1 / sqrt(300) (the drift rate takes some of the information).
+  EXPECT_NEAR(std::sqrt(bounds.smoothing[150](0, 0)), 1.0 / std::sqrt(300.0), 0.01);
 }
 
 TEST(CrlbMarkov, SmoothingBoundEqualsDenseInverse) {
