@@ -21,8 +21,7 @@
 #include "evaluation/json_number.h"
 #include "evaluation/quantity_errors.h"
 #include "evaluation/report_writer.h"
-#include "evaluation/sweep/sweep_grid.h"
-#include "evaluation/sweep/sweep_runner.h"
+#include "evaluation/repro/repro_units.h"
 #include "solver/estimator.h"
 
 namespace mavloc {
@@ -380,15 +379,7 @@ int RunLaserRepro(const ReproOptions& options) {
       indices.push_back(u * static_cast<size_t>(runs) + static_cast<size_t>(k));
   std::vector<nlohmann::json> results;
   if (options.jobs > 1) {
-    SweepGrid grid;
-    grid.scenarios = unit_names;
-    for (int k = 0; k < runs; ++k) grid.seeds.push_back(options.seed + static_cast<uint64_t>(k));
-    grid.repro = "laser";
-    grid.repro_settings = options.settings;
-    SweepRunOptions run_options;
-    run_options.jobs = options.jobs;
-    run_options.worker_argv = options.worker_argv;
-    results = RunSweepUnits(grid, indices, run_options);
+    results = RunReproUnitsInWorkers("laser", options, unit_names, runs, indices);
   } else {
     for (const size_t index : indices) {
       const std::string& unit = unit_names[index / static_cast<size_t>(runs)];

@@ -30,8 +30,7 @@
 #include "evaluation/crlb/smoother_bound.h"
 #include "evaluation/json_number.h"
 #include "evaluation/report_writer.h"
-#include "evaluation/sweep/sweep_grid.h"
-#include "evaluation/sweep/sweep_runner.h"
+#include "evaluation/repro/repro_units.h"
 #include "solver/smoother/smoother_initialization.h"
 
 namespace mavloc {
@@ -1179,17 +1178,11 @@ int RunSmootherRepro(const ReproOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<nlohmann::json> units;
   if (options.jobs > 1 && !plans.empty()) {
-    SweepGrid grid;
-    for (const auto& plan : plans) grid.scenarios.push_back(plan.scenario);
-    for (int k = 0; k < runs; ++k) grid.seeds.push_back(options.seed + static_cast<uint64_t>(k));
-    grid.repro = "smoother";
-    grid.repro_settings = options.settings;
-    SweepRunOptions run_options;
-    run_options.jobs = options.jobs;
-    run_options.worker_argv = options.worker_argv;
+    std::vector<std::string> names;
+    for (const auto& plan : plans) names.push_back(plan.scenario);
     std::vector<size_t> indices(plans.size() * static_cast<size_t>(runs));
     for (size_t i = 0; i < indices.size(); ++i) indices[i] = i;
-    units = RunSweepUnits(grid, indices, run_options);
+    units = RunReproUnitsInWorkers("smoother", options, names, runs, indices);
   } else {
     for (const auto& plan : plans) {
       for (int k = 0; k < runs; ++k) {

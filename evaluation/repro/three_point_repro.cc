@@ -24,8 +24,7 @@
 #include "evaluation/comparison.h"
 #include "evaluation/json_number.h"
 #include "evaluation/report_writer.h"
-#include "evaluation/sweep/sweep_grid.h"
-#include "evaluation/sweep/sweep_runner.h"
+#include "evaluation/repro/repro_units.h"
 #include "solver/three_point/triangle_angle_filter.h"
 
 namespace mavloc {
@@ -114,16 +113,6 @@ std::vector<ThreePointVariant> MakeVariants(double bearing_noise_deg, bool with_
   return variants;
 }
 
-// The true position of the vehicle at the ground-truth stamp nearest to t_ns.
-Eigen::Vector3d TruePositionAt(const Dataset& d, TimeNs t_ns) {
-  const auto it = std::lower_bound(d.ground_truth.begin(), d.ground_truth.end(), t_ns,
-                                   [](const GroundTruthState& s, TimeNs t) { return s.t_ns < t; });
-  if (it == d.ground_truth.end()) return d.ground_truth.back().T_W_B.p;
-  if (it != d.ground_truth.begin() && (t_ns - (it - 1)->t_ns) < (it->t_ns - t_ns))
-    return (it - 1)->T_W_B.p;
-  return it->T_W_B.p;
-}
-
 void AccumulateRun(const Dataset& d, const ThreePointVariant& variant, VariantStats* stats) {
   EvaluationOptions evaluation_options;
   evaluation_options.quantities = kColumns;
@@ -141,7 +130,7 @@ void AccumulateRun(const Dataset& d, const ThreePointVariant& variant, VariantSt
     values.reserve(series.error.size());
     for (size_t i = 0; i < series.error.size(); ++i) {
       if (IsPosition(series.name)) {
-        const double r = (TruePositionAt(d, series.t_ns[i]) - P1).norm();
+        const double r = (NearestTruth(d.ground_truth, series.t_ns[i]).T_W_B.p - P1).norm();
         values.push_back(100.0 * std::abs(series.error[i]) / r);
       } else {
         values.push_back(std::abs(series.error[i]) / kDeg);
@@ -405,17 +394,11 @@ int RunThreePointRepro(const ReproOptions& options) {
   // nothing but the time.
   std::vector<nlohmann::json> units;
   if (options.jobs > 1) {
-    SweepGrid grid;
-    for (const auto& config : plan.configs) grid.scenarios.push_back(config.label);
-    for (int k = 0; k < runs; ++k) grid.seeds.push_back(options.seed + static_cast<uint64_t>(k));
-    grid.repro = "three-point";
-    grid.repro_settings = options.settings;
-    SweepRunOptions run_options;
-    run_options.jobs = options.jobs;
-    run_options.worker_argv = options.worker_argv;
+    std::vector<std::string> labels;
+    for (const auto& config : plan.configs) labels.push_back(config.label);
     std::vector<size_t> indices(plan.configs.size() * static_cast<size_t>(runs));
     for (size_t i = 0; i < indices.size(); ++i) indices[i] = i;
-    units = RunSweepUnits(grid, indices, run_options);
+    units = RunReproUnitsInWorkers("three-point", options, labels, runs, indices);
   } else {
     for (const auto& config : plan.configs) {
       for (int k = 0; k < runs; ++k) {

@@ -8,6 +8,9 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "tests/test_support.h"
 
@@ -41,61 +44,71 @@ nlohmann::json WithoutTimes(const nlohmann::json& json) {
   return out;
 }
 
+// Runs `command` (a repro without --report) with --jobs 1 and --jobs 2 into dir/serial and
+// dir/parallel; returns the two report.json, after checking the exit codes and the recorded jobs.
+struct TwoRuns {
+  nlohmann::json serial, parallel;
+};
+
+TwoRuns RunSerialAndParallel(const std::string& command, const std::string& dir) {
+  TwoRuns runs;
+  for (const auto& [folder, jobs] : {std::pair{"serial", 1}, std::pair{"parallel", 2}}) {
+    const auto r =
+        RunCommand(command + " --report " + dir + "/" + folder + " --jobs " + std::to_string(jobs));
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    if (r.exit_code != 0) return {};
+    const auto report = nlohmann::json::parse(Read(dir + "/" + folder + "/report.json"));
+    EXPECT_EQ(report["jobs"], jobs);
+    (jobs == 1 ? runs.serial : runs.parallel) = report;
+  }
+  return runs;
+}
+
+// The two reports agree on everything but wall-clock fields, and the files agree byte for byte.
+void ExpectSameResults(const TwoRuns& runs, const std::string& dir,
+                       const std::vector<std::string>& files) {
+  const nlohmann::json difference =
+      nlohmann::json::diff(WithoutTimes(runs.serial), WithoutTimes(runs.parallel));
+  EXPECT_TRUE(difference.empty()) << difference.dump(1);
+  for (const auto& file : files) {
+    const std::string left = Read(dir + "/serial/" + file);
+    EXPECT_FALSE(left.empty()) << file;
+    EXPECT_TRUE(left == Read(dir + "/parallel/" + file)) << file << " differs";
+  }
+}
+
 TEST(ReproJobs, SmootherGivesTheSameNumbersInTwoWorkers) {
   const std::string dir = MakeTempDir();
-  const std::string command = CliPath() +
-                              " repro smoother --runs 3 --seed 5 --set scenarios=tag-arena-hover "
-                              "--set duration_s=4 --report " +
-                              dir;
-  const auto serial = RunCommand(command + "/serial --jobs 1");
-  ASSERT_EQ(serial.exit_code, 0) << serial.output;
-  const auto parallel = RunCommand(command + "/parallel --jobs 2");
-  ASSERT_EQ(parallel.exit_code, 0) << parallel.output;
-
-  const auto a = nlohmann::json::parse(Read(dir + "/serial/report.json"));
-  const auto b = nlohmann::json::parse(Read(dir + "/parallel/report.json"));
-  EXPECT_EQ(a["jobs"], 1);
-  EXPECT_EQ(b["jobs"], 2);
-  const auto& table = a["tables"]["tag-arena-hover"];
+  const TwoRuns runs =
+      RunSerialAndParallel(CliPath() +
+                               " repro smoother --runs 3 --seed 5 --set scenarios=tag-arena-hover "
+                               "--set duration_s=4",
+                           dir);
+  ASSERT_FALSE(runs.serial.is_null() || runs.parallel.is_null());
+  const auto& table = runs.serial["tables"]["tag-arena-hover"];
   EXPECT_EQ(table["estimators"]["smoother"]["runs"], 3);
   EXPECT_EQ(table["estimators"]["smoother"]["per_run"].size(), 3u);
   EXPECT_EQ(table["cramer_rao_runs"], 3);
   EXPECT_GT(table["estimators"]["smoother"]["position_rmse_m"].get<double>(), 0.0);
-  const nlohmann::json difference = nlohmann::json::diff(WithoutTimes(a), WithoutTimes(b));
-  EXPECT_TRUE(difference.empty()) << difference.dump(1);
-  for (const char* csv : {"crlb_tag-arena-hover.csv", "anees_tag-arena-hover.csv"}) {
-    const std::string left = Read(dir + "/serial/" + csv);
-    EXPECT_FALSE(left.empty()) << csv;
-    EXPECT_TRUE(left == Read(dir + "/parallel/" + csv)) << csv << " differs";
-  }
+  ExpectSameResults(runs, dir, {"crlb_tag-arena-hover.csv", "anees_tag-arena-hover.csv"});
 }
 
 // three-point: table1 plus three sensitivity rows (two heights, one biased-accelerometer row), two
 // seeds each: 8 units.
 TEST(ReproJobs, ThreePointGivesTheSameNumbersInTwoWorkers) {
   const std::string dir = MakeTempDir();
-  const std::string command = CliPath() +
-                              " repro three-point --runs 2 --seed 3 --set noise_levels_deg=0.1 "
-                              "--set heights_m=0.4,0.8 --report " +
-                              dir;
-  const auto serial = RunCommand(command + "/serial --jobs 1");
-  ASSERT_EQ(serial.exit_code, 0) << serial.output;
-  const auto parallel = RunCommand(command + "/parallel --jobs 2");
-  ASSERT_EQ(parallel.exit_code, 0) << parallel.output;
-
-  const auto a = nlohmann::json::parse(Read(dir + "/serial/report.json"));
-  const auto b = nlohmann::json::parse(Read(dir + "/parallel/report.json"));
-  EXPECT_EQ(a["jobs"], 1);
-  EXPECT_EQ(b["jobs"], 2);
-  const auto& three_point = a["tables"]["table1"]["estimators"]["three-point"]["quantities"];
+  const TwoRuns runs =
+      RunSerialAndParallel(CliPath() +
+                               " repro three-point --runs 2 --seed 3 --set noise_levels_deg=0.1 "
+                               "--set heights_m=0.4,0.8",
+                           dir);
+  ASSERT_FALSE(runs.serial.is_null() || runs.parallel.is_null());
+  const auto& three_point =
+      runs.serial["tables"]["table1"]["estimators"]["three-point"]["quantities"];
   EXPECT_GT(three_point["roll"]["count"].get<long>(), 0);
   EXPECT_GT(three_point["roll"]["std_over_runs"].get<double>(), 0.0);  // two runs' means differ
-  EXPECT_EQ(a["tables"]["sensitivity"]["rows"].size(), 3u);
-  const nlohmann::json difference = nlohmann::json::diff(WithoutTimes(a), WithoutTimes(b));
-  EXPECT_TRUE(difference.empty()) << difference.dump(1);
-  const std::string markdown = Read(dir + "/serial/report.md");
-  EXPECT_FALSE(markdown.empty());
-  EXPECT_TRUE(markdown == Read(dir + "/parallel/report.md")) << "report.md differs";
+  EXPECT_EQ(runs.serial["tables"]["sensitivity"]["rows"].size(), 3u);
+  ExpectSameResults(runs, dir, {"report.md"});
 }
 
 // laser: two seeds of laser-plane without and with biases, and one EuRoC seed (three tables from
@@ -103,34 +116,23 @@ TEST(ReproJobs, ThreePointGivesTheSameNumbersInTwoWorkers) {
 TEST(ReproJobs, LaserGivesTheSameNumbersInTwoWorkers) {
   const std::string dir = MakeTempDir();
   const bool euroc = testing::HasSharedData();
-  const std::string command =
+  const TwoRuns runs = RunSerialAndParallel(
       CliPath() + " repro laser --runs 2 --seed 4 --set duration_s=6 --set euroc_runs=1 --set " +
-      (euroc ? "euroc=true" : "euroc=false") + " --report " + dir;
-  const auto serial = RunCommand(command + "/serial --jobs 1");
-  ASSERT_EQ(serial.exit_code, 0) << serial.output;
-  const auto parallel = RunCommand(command + "/parallel --jobs 2");
-  ASSERT_EQ(parallel.exit_code, 0) << parallel.output;
-
-  const auto a = nlohmann::json::parse(Read(dir + "/serial/report.json"));
-  const auto b = nlohmann::json::parse(Read(dir + "/parallel/report.json"));
-  EXPECT_EQ(b["jobs"], 2);
-  ASSERT_EQ(a["tables"]["simulated"].size(), 2u) << a["tables"].dump(1);
-  ASSERT_EQ(a["tables"].contains("euroc"), euroc) << a["tables"].dump(1);
+          (euroc ? "euroc=true" : "euroc=false"),
+      dir);
+  ASSERT_FALSE(runs.serial.is_null() || runs.parallel.is_null());
+  const nlohmann::json& tables = runs.serial["tables"];
+  ASSERT_EQ(tables["simulated"].size(), 2u) << tables.dump(1);
+  ASSERT_EQ(tables.contains("euroc"), euroc) << tables.dump(1);
   if (euroc) {
-    EXPECT_EQ(a["tables"]["euroc"].size(), 3u);
+    EXPECT_EQ(tables["euroc"].size(), 3u);
   }
-  for (const auto& [group, tables] : a["tables"].items()) {
-    for (const auto& [name, table] : tables.items()) {
+  for (const auto& [group, group_tables] : tables.items()) {
+    for (const auto& [name, table] : group_tables.items()) {
       EXPECT_EQ(table["seeds"].size(), group == "euroc" ? 1u : 2u) << group << " " << name;
     }
   }
-  const nlohmann::json difference = nlohmann::json::diff(WithoutTimes(a), WithoutTimes(b));
-  EXPECT_TRUE(difference.empty()) << difference.dump(1);
-  for (const char* file : {"report.md", "runs.csv"}) {
-    const std::string left = Read(dir + "/serial/" + file);
-    EXPECT_FALSE(left.empty()) << file;
-    EXPECT_TRUE(left == Read(dir + "/parallel/" + file)) << file << " differs";
-  }
+  ExpectSameResults(runs, dir, {"report.md", "runs.csv"});
 }
 
 TEST(ReproJobs, ReproductionsWithoutUnitsRefuseJobs) {
