@@ -124,6 +124,7 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
                                 "extrinsics_prior_m",
                                 "graduated",
                                 "gravity_window_s",
+                                "grow_window_s",
                                 "gyro_bias_prior_deg_s",
                                 "keyframe_stride",
                                 "landmarks",

@@ -7,7 +7,9 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,7 +23,9 @@
 #include "datasets/rendering/tag_renderer.h"
 #include "datasets/scenarios/tag_arena.h"
 #include "evaluation/comparison.h"
+#include "evaluation/json_number.h"
 #include "evaluation/report_writer.h"
+#include "evaluation/repro/repro_units.h"
 #include "frontends/apriltag/detect_tags.h"
 #include "frontends/apriltag/tag_pose.h"
 
@@ -286,93 +290,353 @@ nlohmann::json Summary(const std::vector<double>& values) {
 
 std::string TagNumber(double v, int digits = 3) { return FormatNumber(v, digits); }
 
-}  // namespace
+// ImageStats as exact JSON (a unit's result) and back.
+nlohmann::json RunningStatSums(const RunningStat& s) {
+  return {{"sum", JsonNumber(s.sum)}, {"max", JsonNumber(s.max)}, {"count", s.count}};
+}
+RunningStat RunningStatFromSums(const nlohmann::json& j) {
+  RunningStat s;
+  s.sum = NumberFromJson(j.at("sum"));
+  s.max = NumberFromJson(j.at("max"));
+  s.count = j.at("count").get<long>();
+  return s;
+}
+nlohmann::json ImageStatsSums(const ImageStats& s) {
+  return {{"frames", s.frames},
+          {"visible", s.visible},
+          {"visible_detected", s.visible_detected},
+          {"detections", s.detections},
+          {"false_detections", s.false_detections},
+          {"corner_px", RunningStatSums(s.corner_px)},
+          {"pose_position_m", RunningStatSums(s.pose_position_m)},
+          {"pose_angle_rad", RunningStatSums(s.pose_angle_rad)},
+          {"render_s", JsonNumber(s.render_s)},
+          {"detect_s", JsonNumber(s.detect_s)}};
+}
+ImageStats ImageStatsFromSums(const nlohmann::json& j) {
+  ImageStats s;
+  s.frames = j.at("frames").get<int>();
+  s.visible = j.at("visible").get<int>();
+  s.visible_detected = j.at("visible_detected").get<int>();
+  s.detections = j.at("detections").get<int>();
+  s.false_detections = j.at("false_detections").get<int>();
+  s.corner_px = RunningStatFromSums(j.at("corner_px"));
+  s.pose_position_m = RunningStatFromSums(j.at("pose_position_m"));
+  s.pose_angle_rad = RunningStatFromSums(j.at("pose_angle_rad"));
+  s.render_s = NumberFromJson(j.at("render_s"));
+  s.detect_s = NumberFromJson(j.at("detect_s"));
+  return s;
+}
 
-int RunAprilTagRepro(const ReproOptions& options) {
-  const Settings& settings = options.settings;
+// The reproduction's settings, checked once.
+struct AprilTagSettings {
+  Settings raw;  // every --set (the image pipeline reads its keys from here)
+  double hover_s = 10.0, dynamic_s = 40.0;
+  bool from_images = true;
+  std::optional<uint64_t> hover_images_seed;  // default: the first seed
+  Settings scenario;                          // handed to the tag-arena scenarios
+};
+
+AprilTagSettings ParseAprilTagSettings(const Settings& settings) {
   // Every key read here, by the image pipeline (supersampling ... decimate) or handed to the
   // scenario (processing_delay_s, corner_noise_px, camera_offset_s).
   RejectUnknownReproSettings(
       "apriltag", settings,
-      {"hover_duration_s", "dynamic_duration_s", "images", "supersampling", "image_noise_grey",
-       "exposure_s", "blur_samples", "refine_edges", "decimate", "processing_delay_s",
-       "corner_noise_px", "camera_offset_s"});
-  const int runs = options.runs.value_or(kAprilTagDefaultRuns);
-  const double hover_s = GetDoubleSetting(settings, "hover_duration_s", 10.0);
-  const double dynamic_s = GetDoubleSetting(settings, "dynamic_duration_s", 40.0);
-  const bool from_images = GetBoolSetting(settings, "images", true);
-  if (runs < 1) throw InputError("", 0, "--runs", "must be >= 1");
-  if (!(hover_s >= 3.0 && hover_s <= kMaxScenarioDurationS))
+      {"hover_duration_s", "dynamic_duration_s", "images", "hover_images_seed", "supersampling",
+       "image_noise_grey", "exposure_s", "blur_samples", "refine_edges", "decimate",
+       "processing_delay_s", "corner_noise_px", "camera_offset_s"});
+  AprilTagSettings out;
+  out.raw = settings;
+  out.hover_s = GetDoubleSetting(settings, "hover_duration_s", 10.0);
+  out.dynamic_s = GetDoubleSetting(settings, "dynamic_duration_s", 40.0);
+  out.from_images = GetBoolSetting(settings, "images", true);
+  if (!(out.hover_s >= 3.0 && out.hover_s <= kMaxScenarioDurationS))
     throw InputError("", 0, "hover_duration_s", "must be in [3, 3600] s (kMaxScenarioDurationS)");
-  if (!(dynamic_s >= 8.0 && dynamic_s <= kMaxScenarioDurationS))
+  if (!(out.dynamic_s >= 8.0 && out.dynamic_s <= kMaxScenarioDurationS))
     throw InputError("", 0, "dynamic_duration_s", "must be in [8, 3600] s (kMaxScenarioDurationS)");
-  const auto total_start = Clock::now();
-  Settings scenario_settings;
-  for (const char* key : {"processing_delay_s", "corner_noise_px", "camera_offset_s"}) {
-    if (settings.count(key)) scenario_settings[key] = settings.at(key);
+  if (settings.count("hover_images_seed")) {
+    const int seed = GetIntSetting(settings, "hover_images_seed", 0);
+    if (seed < 0) throw InputError("", 0, "hover_images_seed", "must be >= 0");
+    out.hover_images_seed = static_cast<uint64_t>(seed);
   }
-  scenario_settings["projected_tags"] = from_images ? "0" : "1";
-  EvaluationOptions evaluation;
+  for (const char* key : {"processing_delay_s", "corner_noise_px", "camera_offset_s"}) {
+    if (settings.count(key)) out.scenario[key] = settings.at(key);
+  }
+  out.scenario["projected_tags"] = out.from_images ? "0" : "1";
+  return out;
+}
 
-  // ---- hover (V-B): Monte-Carlo over the filter's initial state ----
-  // Run twice: with P0 matching the spread of the initial errors, and with a P0 ten times too
-  // confident (the paper does not give its P0; its ~2 s convergence suggests a confident one).
-  ImageStats image_stats;
-  std::vector<TagObservation> hover_tags;
-  struct HoverResult {
-    std::vector<std::vector<ErrorSample>> errors;
-    std::vector<double> t_pos, t_vel, t_att, final_pos, final_vel, final_att, initial_pos;
+// The hover's rendered and detected tags: the hover flight is the same for every seed (only the
+// IMU noise and the filter's initial state change), so its images are rendered once per process
+// and images seed (hover units of one worker share them). Rendering and detection are
+// deterministic, so every worker gets the same tags.
+struct HoverImages {
+  std::vector<TagObservation> tags;
+  ImageStats stats;
+};
+const HoverImages& RenderedHover(const AprilTagSettings& settings, uint64_t images_seed) {
+  static std::mutex mutex;
+  static std::map<std::string, HoverImages> cache;
+  const std::string key = nlohmann::json(settings.raw).dump() + "@" + std::to_string(images_seed);
+  const std::lock_guard<std::mutex> lock(mutex);
+  const auto it = cache.find(key);
+  if (it != cache.end()) return it->second;
+  ScenarioOptions scenario;
+  scenario.seed = images_seed;
+  scenario.duration_s = settings.hover_s;
+  scenario.settings = settings.scenario;
+  const Dataset d = GenerateTagArenaHover(scenario);
+  HoverImages images;
+  images.tags = TagsFromImages(d, settings.raw, SplitMix64(images_seed), &images.stats);
+  return cache.emplace(key, std::move(images)).first->second;
+}
+
+// A hover run's error samples, reduced to what the report uses (NEES and the error envelope).
+nlohmann::json HoverSamplesJson(const std::vector<ErrorSample>& errors) {
+  std::vector<double> t, p, v, a, np, nv, na;
+  for (const auto& e : errors) {
+    t.push_back(e.t_s);
+    p.push_back(e.p.norm());
+    v.push_back(e.v.norm());
+    a.push_back(e.rpy.cwiseAbs().maxCoeff());
+    np.push_back(e.nees_p);
+    nv.push_back(e.nees_v);
+    na.push_back(e.nees_a);
+  }
+  return {{"t_s", JsonNumbers(t)},          {"position_m", JsonNumbers(p)},
+          {"velocity_m_s", JsonNumbers(v)}, {"attitude_rad", JsonNumbers(a)},
+          {"nees_p", JsonNumbers(np)},      {"nees_v", JsonNumbers(nv)},
+          {"nees_a", JsonNumbers(na)}};
+}
+
+// One hover unit: the run of `seed` with P0 matched and with P0 x0.1 (V-B), and the hover images'
+// statistics.
+nlohmann::json HoverUnit(const AprilTagSettings& settings, uint64_t images_seed, uint64_t seed) {
+  ScenarioOptions scenario;
+  scenario.seed = seed;
+  scenario.duration_s = settings.hover_s;
+  scenario.settings = settings.scenario;
+  Dataset d = GenerateTagArenaHover(scenario);
+  nlohmann::json out;
+  if (settings.from_images) {
+    const HoverImages& images = RenderedHover(settings, images_seed);
+    d.tags = images.tags;
+    out["images"] = ImageStatsSums(images.stats);
+  }
+  EvaluationOptions evaluation;
+  for (const double p0_scale : {1.0, 0.1}) {
+    EstimatorOptions ekf_options;
+    ekf_options.Set("init", "perturbed");
+    ekf_options.Set("init_seed", std::to_string(seed));
+    ekf_options.Set("init_p0_scale", fmt::format("{}", p0_scale));
+    // An over-confident P0 makes the first innovations look like outliers: the paper's filter has
+    // no gate, so the gate is off for that variant.
+    if (p0_scale != 1.0) ekf_options.Set("gate_chi2", "0");
+    const EstimatorEvaluation e = RunAndEvaluate("tag-ekf", ekf_options, d, evaluation);
+    if (!e.ran) throw InputError("tag-ekf did not run on the hover: " + e.skipped_reason);
+    const auto errors = Errors(e.estimate, d);
+    if (errors.empty()) throw InputError("tag-ekf gave no estimate on the hover");
+    auto pos = [](const ErrorSample& s) { return s.p.norm(); };
+    auto vel = [](const ErrorSample& s) { return s.v.norm(); };
+    auto att = [](const ErrorSample& s) { return s.rpy.cwiseAbs().maxCoeff(); };
+    nlohmann::json run = {
+        {"initial_pos", JsonNumber(errors.front().p.norm())},
+        {"t_pos", JsonNumber(ConvergenceTime(errors, kConvergedPositionM, pos))},
+        {"t_vel", JsonNumber(ConvergenceTime(errors, kConvergedVelocityMs, vel))},
+        {"t_att", JsonNumber(ConvergenceTime(errors, kConvergedAttitudeRad, att))},
+        {"final_pos", JsonNumber(MeanOverLast(errors, 1.0, pos))},
+        {"final_vel", JsonNumber(MeanOverLast(errors, 1.0, vel))},
+        {"final_att", JsonNumber(MeanOverLast(errors, 1.0, att))}};
+    if (p0_scale == 1.0) run["samples"] = HoverSamplesJson(errors);
+    out[p0_scale == 1.0 ? "p0_matched" : "p0_confident"] = run;
+  }
+  return out;
+}
+
+const std::vector<std::string> kDynamicNames = {"x",  "y",    "z",     "vx", "vy",
+                                                "vz", "roll", "pitch", "yaw"};
+
+// The dynamic unit (V-C): the fast-turn flight of `seed` rendered and detected, each variant's
+// peak errors after convergence; {"dynamic": table JSON, "rows", "csv", "images",
+// "processing_delay_s"}.
+nlohmann::json DynamicUnit(const AprilTagSettings& settings, uint64_t seed) {
+  ScenarioOptions dynamic_scenario;
+  dynamic_scenario.seed = seed;
+  dynamic_scenario.duration_s = settings.dynamic_s;
+  dynamic_scenario.settings = settings.scenario;
+  Dataset dynamic = GenerateTagArenaDynamic(dynamic_scenario);
+  ImageStats dynamic_image_stats;
+  if (settings.from_images)
+    dynamic.tags =
+        TagsFromImages(dynamic, settings.raw, SplitMix64(seed + 1), &dynamic_image_stats);
+  if (dynamic.tags.empty())
+    throw InputError("repro apriltag: no tag detected in the dynamic flight");
+  const double first_tag_s =
+      NsToSeconds(dynamic.tags.front().t_ns - dynamic.ground_truth.front().t_ns);
+  const double window_s = first_tag_s + kDynamicSettleS;
+  struct Variant {
+    std::string label, estimator;
+    std::map<std::string, std::string> options;
   };
-  auto run_hover = [&](double p0_scale) {
-    HoverResult r;
-    for (int k = 0; k < runs; ++k) {
-      ScenarioOptions scenario;
-      scenario.seed = options.seed + k;
-      scenario.duration_s = hover_s;
-      scenario.settings = scenario_settings;
-      Dataset d = GenerateTagArenaHover(scenario);
-      if (from_images) {
-        // The hover is the same for every run (only the IMU noise and the filter's initial state
-        // change), so the images are rendered and detected once.
-        if (hover_tags.empty())
-          hover_tags = TagsFromImages(d, settings, SplitMix64(options.seed), &image_stats);
-        d.tags = hover_tags;
+  const std::vector<Variant> variants = {
+      {"tag-ekf", "tag-ekf", {}},
+      {"tag-ekf (delay ignored)", "tag-ekf", {{"compensate_delay", "0"}}},
+      {"tag-ekf (no tags)", "tag-ekf", {{"use_tags", "0"}}},
+      {"tag-pnp", "tag-pnp", {}},
+  };
+  nlohmann::json dynamic_json = {{"first_tag_s", first_tag_s},
+                                 {"window_start_s", window_s},
+                                 {"duration_s", settings.dynamic_s},
+                                 {"estimators", nlohmann::json::object()}};
+  std::vector<std::vector<std::string>> dynamic_rows;
+  std::string dynamic_csv =
+      "estimator,t [s],ex [m],ey [m],ez [m],evx [m/s],evy [m/s],evz [m/s],"
+      "eroll [rad],epitch [rad],eyaw [rad]\n";
+  EvaluationOptions evaluation;
+  for (const auto& variant : variants) {
+    const EstimatorEvaluation e =
+        RunAndEvaluate(variant.estimator, EstimatorOptions(variant.options), dynamic, evaluation);
+    if (!e.ran) throw InputError(variant.label + " did not run: " + e.skipped_reason);
+    const auto errors = Errors(e.estimate, dynamic);
+    if (errors.empty()) throw InputError(variant.label + " gave no estimate on the dynamic flight");
+    std::map<std::string, double> peak, sum2;
+    std::map<std::string, int> count;
+    for (const auto& s : errors) {
+      const double values[9] = {s.p.x(), s.p.y(),   s.p.z(),   s.v.x(),  s.v.y(),
+                                s.v.z(), s.rpy.x(), s.rpy.y(), s.rpy.z()};
+      if (variant.label == "tag-pnp" || static_cast<long>(s.t_s * 100) % 5 == 0) {
+        dynamic_csv += fmt::format("{},{:.3f}", variant.label, s.t_s);
+        for (double v : values) dynamic_csv += fmt::format(",{:.6g}", v);
+        dynamic_csv += "\n";
       }
-      EstimatorOptions ekf_options;
-      ekf_options.Set("init", "perturbed");
-      ekf_options.Set("init_seed", std::to_string(options.seed + k));
-      ekf_options.Set("init_p0_scale", fmt::format("{}", p0_scale));
-      // An over-confident P0 makes the first innovations look like outliers: the paper's filter has
-      // no gate, so the gate is off for that variant.
-      if (p0_scale != 1.0) ekf_options.Set("gate_chi2", "0");
-      const EstimatorEvaluation e = RunAndEvaluate("tag-ekf", ekf_options, d, evaluation);
-      if (!e.ran) throw InputError("tag-ekf did not run on the hover: " + e.skipped_reason);
-      auto errors = Errors(e.estimate, d);
-      auto pos = [](const ErrorSample& s) { return s.p.norm(); };
-      auto vel = [](const ErrorSample& s) { return s.v.norm(); };
-      auto att = [](const ErrorSample& s) { return s.rpy.cwiseAbs().maxCoeff(); };
-      r.initial_pos.push_back(errors.front().p.norm());
-      r.t_pos.push_back(ConvergenceTime(errors, kConvergedPositionM, pos));
-      r.t_vel.push_back(ConvergenceTime(errors, kConvergedVelocityMs, vel));
-      r.t_att.push_back(ConvergenceTime(errors, kConvergedAttitudeRad, att));
-      r.final_pos.push_back(MeanOverLast(errors, 1.0, pos));
-      r.final_vel.push_back(MeanOverLast(errors, 1.0, vel));
-      r.final_att.push_back(MeanOverLast(errors, 1.0, att));
-      r.errors.push_back(std::move(errors));
-      if (k % 20 == 0)
-        ReportProgress("repro apriltag",
-                       fmt::format("hover (P0 x{}) run {}/{}", p0_scale, k + 1, runs));
+      if (s.t_s < window_s) continue;
+      for (int k = 0; k < 9; ++k) {
+        if (std::isnan(values[k])) continue;
+        peak[kDynamicNames[k]] = std::max(peak[kDynamicNames[k]], std::abs(values[k]));
+        sum2[kDynamicNames[k]] += values[k] * values[k];
+        ++count[kDynamicNames[k]];
+      }
     }
-    return r;
-  };
-  const HoverResult hover = run_hover(1.0);
-  const HoverResult hover_confident = run_hover(0.1);
-  const auto& hover_errors = hover.errors;
+    nlohmann::json entry = {{"peak_abs_error", nlohmann::json::object()},
+                            {"rmse", nlohmann::json::object()},
+                            {"final_position_error_m", errors.back().p.norm()},
+                            {"runtime_s", e.runtime_s}};
+    std::vector<std::string> row = {variant.label};
+    for (const auto& name : kDynamicNames) {
+      const bool has = count[name] > 0;
+      const double p = has ? peak[name] : kNaN;
+      entry["peak_abs_error"][name] = JsonNumber(p);
+      entry["rmse"][name] = JsonNumber(has ? std::sqrt(sum2[name] / count[name]) : kNaN);
+      row.push_back(TagNumber(p, 4));
+    }
+    row.push_back(TagNumber(errors.back().p.norm(), 3));
+    if (!e.estimate.failures.empty()) entry["failures"] = e.estimate.failures;
+    dynamic_json["estimators"][variant.label] = entry;
+    dynamic_rows.push_back(row);
+  }
+  nlohmann::json out = {{"dynamic", dynamic_json},
+                        {"rows", dynamic_rows},
+                        {"csv", dynamic_csv},
+                        {"processing_delay_s", dynamic.scenario_info.at("processing_delay_s")}};
+  if (settings.from_images) out["images"] = ImageStatsSums(dynamic_image_stats);
+  return out;
+}
+
+constexpr const char* kHoverUnit = "hover";
+constexpr const char* kDynamicUnit = "dynamic";
+
+nlohmann::json AprilTagUnitResult(const AprilTagSettings& settings, const std::string& unit,
+                                  uint64_t seed) {
+  if (unit == kDynamicUnit) return DynamicUnit(settings, seed);
+  if (unit == kHoverUnit)
+    return HoverUnit(settings, settings.hover_images_seed.value_or(seed), seed);
+  throw InputError("repro apriltag: no unit '" + unit + "'");
+}
+
+struct HoverResult {
+  std::vector<double> t_pos, t_vel, t_att, final_pos, final_vel, final_att, initial_pos;
+};
+void AddHoverRun(const nlohmann::json& run, HoverResult* r) {
+  r->initial_pos.push_back(NumberFromJson(run.at("initial_pos")));
+  r->t_pos.push_back(NumberFromJson(run.at("t_pos")));
+  r->t_vel.push_back(NumberFromJson(run.at("t_vel")));
+  r->t_att.push_back(NumberFromJson(run.at("t_att")));
+  r->final_pos.push_back(NumberFromJson(run.at("final_pos")));
+  r->final_vel.push_back(NumberFromJson(run.at("final_vel")));
+  r->final_att.push_back(NumberFromJson(run.at("final_att")));
+}
+
+// A hover run's reduced error samples (HoverSamplesJson) back from JSON.
+struct HoverSamples {
+  std::vector<double> t_s, p, v, a, nees_p, nees_v, nees_a;
+};
+HoverSamples HoverSamplesFromJson(const nlohmann::json& j) {
+  return {NumbersFromJson(j.at("t_s")),          NumbersFromJson(j.at("position_m")),
+          NumbersFromJson(j.at("velocity_m_s")), NumbersFromJson(j.at("attitude_rad")),
+          NumbersFromJson(j.at("nees_p")),       NumbersFromJson(j.at("nees_v")),
+          NumbersFromJson(j.at("nees_a"))};
+}
+
+}  // namespace
+
+nlohmann::json RunAprilTagReproUnit(const std::map<std::string, std::string>& settings,
+                                    const std::string& unit, uint64_t seed) {
+  return AprilTagUnitResult(ParseAprilTagSettings(settings), unit, seed);
+}
+
+int RunAprilTagRepro(const ReproOptions& options) {
+  AprilTagSettings settings = ParseAprilTagSettings(options.settings);
+  const int runs = options.runs.value_or(kAprilTagDefaultRuns);
+  if (runs < 1) throw InputError("", 0, "--runs", "must be >= 1");
+  if (options.jobs < 1) throw InputError("", 0, "--jobs", "must be >= 1");
+  const bool from_images = settings.from_images;
+  const double hover_s = settings.hover_s;
+  const auto total_start = Clock::now();
+  // The hover images' seed travels with the settings, so that every unit (here or in a worker)
+  // renders the same hover.
+  ReproOptions unit_options = options;
+  if (!settings.hover_images_seed) {
+    settings.hover_images_seed = options.seed;
+    unit_options.settings["hover_images_seed"] = std::to_string(options.seed);
+  }
+
+  // Units: (dynamic, first seed) and (hover, seed) for every seed; grid index = name index * runs
+  // + k. The dynamic flight (the longest unit) goes first. Every result goes through its JSON
+  // text, here or in a sweep worker, so --jobs changes nothing but the time.
+  const std::vector<std::string> unit_names = {kDynamicUnit, kHoverUnit};
+  std::vector<size_t> indices = {0};
+  for (int k = 0; k < runs; ++k) indices.push_back(static_cast<size_t>(runs + k));
+  std::vector<nlohmann::json> results;
+  if (options.jobs > 1) {
+    results = RunReproUnitsInWorkers("apriltag", unit_options, unit_names, runs, indices);
+  } else {
+    for (const size_t index : indices) {
+      const std::string& unit = unit_names[index / static_cast<size_t>(runs)];
+      const int k = static_cast<int>(index % static_cast<size_t>(runs));
+      if (unit == kDynamicUnit || k % 20 == 0)
+        ReportProgress("repro apriltag",
+                       fmt::format("{} run {}/{}", unit, k + 1, unit == kDynamicUnit ? 1 : runs));
+      results.push_back(nlohmann::json::parse(
+          AprilTagUnitResult(settings, unit, options.seed + static_cast<uint64_t>(k)).dump()));
+    }
+  }
+  const nlohmann::json& dynamic_result = results.front();
+  const ImageStats image_stats =
+      from_images ? ImageStatsFromSums(results[1].at("images")) : ImageStats{};
+  const ImageStats dynamic_image_stats =
+      from_images ? ImageStatsFromSums(dynamic_result.at("images")) : ImageStats{};
+  HoverResult hover, hover_confident;
+  std::vector<HoverSamples> hover_errors;
+  for (size_t i = 1; i < results.size(); ++i) {
+    AddHoverRun(results[i].at("p0_matched"), &hover);
+    AddHoverRun(results[i].at("p0_confident"), &hover_confident);
+    hover_errors.push_back(HoverSamplesFromJson(results[i].at("p0_matched").at("samples")));
+  }
   const auto& initial_pos = hover.initial_pos;
 
   // ---- NEES over the hover runs ----
-  size_t steps = hover_errors.front().size();
-  for (const auto& run : hover_errors) steps = std::min(steps, run.size());
+  size_t steps = hover_errors.front().t_s.size();
+  for (const auto& run : hover_errors) steps = std::min(steps, run.t_s.size());
   const double band_lo = ChiSquareQuantile(3.0 * runs, -kZ975) / runs;
   const double band_hi = ChiSquareQuantile(3.0 * runs, kZ975) / runs;
   std::string nees_csv = "t [s],anees_position,anees_velocity,anees_attitude,band_low,band_high\n";
@@ -383,14 +647,14 @@ int RunAprilTagRepro(const ReproOptions& options) {
   for (size_t i = 0; i < steps; ++i) {
     double p = 0.0, v = 0.0, a = 0.0;
     for (const auto& run : hover_errors) {
-      p += run[i].nees_p;
-      v += run[i].nees_v;
-      a += run[i].nees_a;
+      p += run.nees_p[i];
+      v += run.nees_v[i];
+      a += run.nees_a[i];
     }
     p /= runs;
     v /= runs;
     a /= runs;
-    const double t = hover_errors.front()[i].t_s;
+    const double t = hover_errors.front().t_s[i];
     nees_csv +=
         fmt::format("{:.3f},{:.5g},{:.5g},{:.5g},{:.5g},{:.5g}\n", t, p, v, a, band_lo, band_hi);
     if (t < kNeesStartS) continue;
@@ -415,89 +679,21 @@ int RunAprilTagRepro(const ReproOptions& options) {
   for (size_t i = 0; i < steps; i += 5) {
     RunningStat p, v, a;
     for (const auto& run : hover_errors) {
-      p.Add(run[i].p.norm());
-      v.Add(run[i].v.norm());
-      a.Add(run[i].rpy.cwiseAbs().maxCoeff());
+      p.Add(run.p[i]);
+      v.Add(run.v[i]);
+      a.Add(run.a[i]);
     }
     envelope_csv +=
         fmt::format("{:.3f},{:.5g},{:.5g},{:.5g},{:.5g},{:.5g},{:.5g}\n",
-                    hover_errors.front()[i].t_s, p.Mean(), p.max, v.Mean(), v.max, a.Mean(), a.max);
+                    hover_errors.front().t_s[i], p.Mean(), p.max, v.Mean(), v.max, a.Mean(), a.max);
   }
 
   // ---- dynamic (V-C) ----
-  ScenarioOptions dynamic_scenario;
-  dynamic_scenario.seed = options.seed;
-  dynamic_scenario.duration_s = dynamic_s;
-  dynamic_scenario.settings = scenario_settings;
-  Dataset dynamic = GenerateTagArenaDynamic(dynamic_scenario);
-  ImageStats dynamic_image_stats;
-  if (from_images)
-    dynamic.tags =
-        TagsFromImages(dynamic, settings, SplitMix64(options.seed + 1), &dynamic_image_stats);
-  if (dynamic.tags.empty())
-    throw InputError("repro apriltag: no tag detected in the dynamic flight");
-  const double first_tag_s =
-      NsToSeconds(dynamic.tags.front().t_ns - dynamic.ground_truth.front().t_ns);
-  const double window_s = first_tag_s + kDynamicSettleS;
-  struct Variant {
-    std::string label, estimator;
-    std::map<std::string, std::string> options;
-  };
-  const std::vector<Variant> variants = {
-      {"tag-ekf", "tag-ekf", {}},
-      {"tag-ekf (delay ignored)", "tag-ekf", {{"compensate_delay", "0"}}},
-      {"tag-ekf (no tags)", "tag-ekf", {{"use_tags", "0"}}},
-      {"tag-pnp", "tag-pnp", {}},
-  };
-  nlohmann::json dynamic_json = {{"first_tag_s", first_tag_s},
-                                 {"window_start_s", window_s},
-                                 {"duration_s", dynamic_s},
-                                 {"estimators", nlohmann::json::object()}};
-  std::vector<std::vector<std::string>> dynamic_rows;
-  std::string dynamic_csv =
-      "estimator,t [s],ex [m],ey [m],ez [m],evx [m/s],evy [m/s],evz [m/s],"
-      "eroll [rad],epitch [rad],eyaw [rad]\n";
-  const std::vector<std::string> names = {"x", "y", "z", "vx", "vy", "vz", "roll", "pitch", "yaw"};
-  for (const auto& variant : variants) {
-    const EstimatorEvaluation e =
-        RunAndEvaluate(variant.estimator, EstimatorOptions(variant.options), dynamic, evaluation);
-    if (!e.ran) throw InputError(variant.label + " did not run: " + e.skipped_reason);
-    const auto errors = Errors(e.estimate, dynamic);
-    std::map<std::string, double> peak, sum2;
-    std::map<std::string, int> count;
-    for (const auto& s : errors) {
-      const double values[9] = {s.p.x(), s.p.y(),   s.p.z(),   s.v.x(),  s.v.y(),
-                                s.v.z(), s.rpy.x(), s.rpy.y(), s.rpy.z()};
-      if (variant.label == "tag-pnp" || static_cast<long>(s.t_s * 100) % 5 == 0) {
-        dynamic_csv += fmt::format("{},{:.3f}", variant.label, s.t_s);
-        for (double v : values) dynamic_csv += fmt::format(",{:.6g}", v);
-        dynamic_csv += "\n";
-      }
-      if (s.t_s < window_s) continue;
-      for (int k = 0; k < 9; ++k) {
-        if (std::isnan(values[k])) continue;
-        peak[names[k]] = std::max(peak[names[k]], std::abs(values[k]));
-        sum2[names[k]] += values[k] * values[k];
-        ++count[names[k]];
-      }
-    }
-    nlohmann::json entry = {{"peak_abs_error", nlohmann::json::object()},
-                            {"rmse", nlohmann::json::object()},
-                            {"final_position_error_m", errors.back().p.norm()},
-                            {"runtime_s", e.runtime_s}};
-    std::vector<std::string> row = {variant.label};
-    for (const auto& name : names) {
-      const bool has = count[name] > 0;
-      const double p = has ? peak[name] : kNaN;
-      entry["peak_abs_error"][name] = p;
-      entry["rmse"][name] = has ? std::sqrt(sum2[name] / count[name]) : kNaN;
-      row.push_back(TagNumber(p, 4));
-    }
-    row.push_back(TagNumber(errors.back().p.norm(), 3));
-    if (!e.estimate.failures.empty()) entry["failures"] = e.estimate.failures;
-    dynamic_json["estimators"][variant.label] = entry;
-    dynamic_rows.push_back(row);
-  }
+  nlohmann::json dynamic_json = dynamic_result.at("dynamic");
+  const double window_s = dynamic_json.at("window_start_s").get<double>();
+  const double first_tag_s = dynamic_json.at("first_tag_s").get<double>();
+  auto dynamic_rows = dynamic_result.at("rows").get<std::vector<std::vector<std::string>>>();
+  const std::string dynamic_csv = dynamic_result.at("csv").get<std::string>();
   dynamic_rows.push_back({"paper (peaks)", TagNumber(kPaperPositionPeakM, 3),
                           TagNumber(kPaperPositionPeakM, 3), TagNumber(kPaperPositionPeakM, 3),
                           TagNumber(kPaperVelocityPeakMs, 3), TagNumber(kPaperVelocityPeakMs, 3),
@@ -545,6 +741,8 @@ int RunAprilTagRepro(const ReproOptions& options) {
        "de Almeida Barbosa, Dias, dos Santos: A Visual-Inertial Navigation System "
        "Using AprilTag for Real-Time MAV Applications"},
       {"seed", options.seed},
+      {"hover_images_seed", *settings.hover_images_seed},
+      {"jobs", options.jobs},
       {"runtime_s", total_s},
       {"tables",
        {{"images", images}, {"hover", hover_json}, {"dynamic", dynamic_json}, {"nees", nees}}}};
@@ -568,7 +766,7 @@ int RunAprilTagRepro(const ReproOptions& options) {
       "(compensated as in Fig. 3-4 unless stated).\n\n",
       options.seed, runs, total_s,
       from_images ? "rendered images -> libapriltag -> per-tag PnP" : "projected corners + noise",
-      dynamic.scenario_info.at("processing_delay_s"));
+      dynamic_result.at("processing_delay_s").get<std::string>());
   if (from_images) {
     md += "## images: the detector on the rendered frames\n\n";
     std::vector<std::vector<std::string>> rows;

@@ -13,11 +13,14 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "core/key_values.h"
 #include "core/numbers.h"
 #include "core/progress.h"
 #include "datasets/scenarios/marker_board_flight.h"
 #include "evaluation/comparison.h"
+#include "evaluation/json_number.h"
 #include "evaluation/report_writer.h"
+#include "evaluation/repro/repro_units.h"
 
 namespace mavloc {
 
@@ -45,7 +48,69 @@ struct Metrics {
   double VelocityRmse() const { return n_v ? std::sqrt(sum_v2 / n_v) : kNaN; }
   double OutputPercent() const { return frames ? 100.0 * outputs / frames : kNaN; }
   double MsPerFrame() const { return frames ? 1e3 * runtime_s / frames : kNaN; }
+
+  // Adds another run's (or runs') sums: the per-configuration totals are the units' sums added in
+  // seed order, so every --jobs gives the same bits.
+  void Add(const Metrics& o) {
+    sum_p2 += o.sum_p2;
+    max_p = std::max(max_p, o.max_p);
+    sum_yaw2 += o.sum_yaw2;
+    sum_rp2 += o.sum_rp2;
+    sum_v2 += o.sum_v2;
+    n_p += o.n_p;
+    n_yaw += o.n_yaw;
+    n_rp += o.n_rp;
+    n_v += o.n_v;
+    jumps += o.jumps;
+    frames += o.frames;
+    outputs += o.outputs;
+    failures += o.failures;
+    runs += o.runs;
+    runtime_s += o.runtime_s;
+    for (const auto& [reason, count] : o.failure_reasons) failure_reasons[reason] += count;
+  }
 };
+
+// The sums of a unit's Metrics as exact JSON (JsonNumber keeps every bit of a finite double) and
+// back.
+nlohmann::json MetricsSums(const Metrics& m) {
+  return {{"sum_p2", JsonNumber(m.sum_p2)},
+          {"max_p", JsonNumber(m.max_p)},
+          {"sum_yaw2", JsonNumber(m.sum_yaw2)},
+          {"sum_rp2", JsonNumber(m.sum_rp2)},
+          {"sum_v2", JsonNumber(m.sum_v2)},
+          {"n_p", m.n_p},
+          {"n_yaw", m.n_yaw},
+          {"n_rp", m.n_rp},
+          {"n_v", m.n_v},
+          {"jumps", m.jumps},
+          {"frames", m.frames},
+          {"outputs", m.outputs},
+          {"failures", m.failures},
+          {"runs", m.runs},
+          {"runtime_s", JsonNumber(m.runtime_s)},
+          {"failure_reasons", m.failure_reasons}};
+}
+Metrics MetricsFromSums(const nlohmann::json& j) {
+  Metrics m;
+  m.sum_p2 = NumberFromJson(j.at("sum_p2"));
+  m.max_p = NumberFromJson(j.at("max_p"));
+  m.sum_yaw2 = NumberFromJson(j.at("sum_yaw2"));
+  m.sum_rp2 = NumberFromJson(j.at("sum_rp2"));
+  m.sum_v2 = NumberFromJson(j.at("sum_v2"));
+  m.n_p = j.at("n_p").get<long>();
+  m.n_yaw = j.at("n_yaw").get<long>();
+  m.n_rp = j.at("n_rp").get<long>();
+  m.n_v = j.at("n_v").get<long>();
+  m.jumps = j.at("jumps").get<long>();
+  m.frames = j.at("frames").get<long>();
+  m.outputs = j.at("outputs").get<long>();
+  m.failures = j.at("failures").get<long>();
+  m.runs = j.at("runs").get<int>();
+  m.runtime_s = NumberFromJson(j.at("runtime_s"));
+  m.failure_reasons = j.at("failure_reasons").get<std::map<std::string, int>>();
+  return m;
+}
 
 struct PixhawkVariant {
   std::string label;
@@ -116,30 +181,59 @@ void Measure(const Dataset& d, const PixhawkVariant& variant, Metrics* m) {
   }
 }
 
-struct Context {
-  int runs = kPixhawkDefaultRuns;
-  uint64_t seed = 1;
+// The reproduction's settings: the tables, the flight's duration, the scenario's own settings.
+struct PixhawkSettings {
+  std::set<std::string> tables = {"fig15", "sweep", "kf", "timestamps"};
   std::optional<double> duration_s;
   Settings base;  // scenario settings from --set
 };
 
-// Runs every variant on the same datasets (one per seed) of a scenario configuration.
-std::vector<Metrics> RunConfig(const Context& ctx, const Settings& scenario,
-                               const std::vector<PixhawkVariant>& variants,
-                               const std::string& label) {
-  std::vector<Metrics> metrics(variants.size());
-  for (int k = 0; k < ctx.runs; ++k) {
-    ReportProgress("repro pixhawk", fmt::format("{} run {}/{}", label, k + 1, ctx.runs));
-    ScenarioOptions options;
-    options.seed = ctx.seed + static_cast<uint64_t>(k);
-    options.duration_s = ctx.duration_s;
-    options.settings = ctx.base;
-    for (const auto& [key, value] : scenario) options.settings[key] = value;
-    const Dataset d = GenerateMarkerBoardFlight(options);
-    for (size_t v = 0; v < variants.size(); ++v) Measure(d, variants[v], &metrics[v]);
+PixhawkSettings ParsePixhawkSettings(const Settings& settings) {
+  PixhawkSettings out;
+  for (const auto& [key, value] : settings) {
+    if (key == "tables") {
+      out.tables.clear();
+      std::stringstream list(value);
+      std::string name;
+      while (std::getline(list, name, ',')) {
+        if (name != "fig15" && name != "sweep" && name != "kf" && name != "timestamps")
+          throw InputError("repro pixhawk: --set tables: unknown table '" + name +
+                           "' (fig15, sweep, kf, timestamps)");
+        out.tables.insert(name);
+      }
+    } else if (key == "duration_s") {
+      out.duration_s = GetDoubleSetting(settings, "duration_s", 0.0);
+    } else {
+      out.base[key] = value;
+    }
   }
+  return out;
+}
+
+// One configuration: scenario settings beside the defaults, and the variants run on each of its
+// datasets (one per seed). A configuration and a seed make one unit of the sweep machinery.
+struct PixhawkConfig {
+  std::string name;  // the unit's name
+  Settings scenario;
+  std::vector<PixhawkVariant> variants;
+};
+
+// Every variant on the dataset of one configuration and seed; the Metrics of this one run each.
+std::vector<Metrics> RunConfigOnce(const PixhawkSettings& settings, const PixhawkConfig& config,
+                                   uint64_t seed) {
+  ScenarioOptions options;
+  options.seed = seed;
+  options.duration_s = settings.duration_s;
+  options.settings = settings.base;
+  for (const auto& [key, value] : config.scenario) options.settings[key] = value;
+  const Dataset d = GenerateMarkerBoardFlight(options);
+  std::vector<Metrics> metrics(config.variants.size());
+  for (size_t v = 0; v < config.variants.size(); ++v) Measure(d, config.variants[v], &metrics[v]);
   return metrics;
 }
+
+// Per configuration name: the Metrics of each variant, summed over the seeds.
+using PixhawkResults = std::map<std::string, std::vector<Metrics>>;
 
 std::string PixhawkNumber(double value, int digits = 2) { return FormatNumber(value, digits); }
 
@@ -200,22 +294,128 @@ PixhawkVariant Upright(const std::string& label, Settings options = {}) {
   return {label, "upright-2p", std::move(options)};
 }
 
+// ---- the configurations of each table (their names are the units' names) ----
+
+const std::vector<double> kAttitudeErrorsDeg = {0.05, 0.1, 0.25, 0.5, 1.0, 2.0};
+const std::vector<double> kPixelNoisesPx = {0.5, 1.0, 2.0, 3.0};
+const std::vector<std::string> kMarkerCounts = {"1", "2", "4", "0"};  // 0: all
+const std::vector<double> kOutlierFractions = {0.0, 0.05, 0.1, 0.2};
+const std::vector<double> kSpeedsMs = {0.5, 1.5};
+
+std::string MarkersLabel(const std::string& markers) { return markers == "0" ? "all" : markers; }
+
+struct StampCase {
+  std::string label, stamping, compensation_ms;
+};
+const std::vector<StampCase> kStampCases = {
+    {"exposure (hardware trigger)", "exposure", "0"},
+    {"arrival, uncompensated", "arrival", "0"},
+    {"arrival, mean delay 17.5 ms subtracted", "arrival", "17.5"}};
+
+struct KfCondition {
+  std::string label, name;
+  Settings scenario;
+  bool dropped;  // adds the nominal-dt variant
+};
+const std::vector<KfCondition> kKfConditions = {
+    {"defaults", "kf-defaults", {}, false},
+    {"one marker in view", "kf-one-marker", {{"max_markers", "1"}}, false},
+    {"20 % frames dropped", "kf-frames-dropped", {{"frame_drop_fraction", "0.2"}}, true}};
+
+std::string SweepAttitudeName(const std::string& markers) {
+  return "sweep-attitude-markers-" + MarkersLabel(markers);
+}
+std::string SweepPixelName(double px) { return fmt::format("sweep-pixel-noise-{}", px); }
+std::string SweepMarkersName(const std::string& markers) {
+  return "sweep-markers-" + MarkersLabel(markers);
+}
+std::string SweepOutliersName(double f) { return fmt::format("sweep-outliers-{}", f); }
+std::string StampsName(double speed, const StampCase& c) {
+  return fmt::format("timestamps-{}-{}-{}", speed, c.stamping, c.compensation_ms);
+}
+
+std::vector<PixhawkConfig> TableConfigs(const std::string& table) {
+  std::vector<PixhawkConfig> configs;
+  if (table == "fig15") {
+    configs.push_back({"fig15", {}, {Pnp(), Upright("upright-2p (gravity EKF roll/pitch)")}});
+  } else if (table == "sweep") {
+    // IMU attitude error (ground-truth roll/pitch + Gauss-Markov error), all markers and one.
+    for (const std::string markers : {"0", "1"}) {
+      std::vector<PixhawkVariant> variants = {Pnp()};
+      for (const double e : kAttitudeErrorsDeg)
+        variants.push_back(
+            Upright(fmt::format("upright-2p {} deg", e),
+                    {{"attitude", "truth"}, {"attitude_error_deg", fmt::format("{}", e)}}));
+      configs.push_back({SweepAttitudeName(markers), {{"max_markers", markers}}, variants});
+    }
+    for (const double px : kPixelNoisesPx)
+      configs.push_back(
+          {SweepPixelName(px), {{"pixel_noise_px", fmt::format("{}", px)}}, {Pnp(), Upright("u")}});
+    for (const auto& markers : kMarkerCounts)
+      configs.push_back(
+          {SweepMarkersName(markers), {{"max_markers", markers}}, {Pnp(), Upright("u")}});
+    for (const double f : kOutlierFractions)
+      configs.push_back({SweepOutliersName(f),
+                         {{"outlier_fraction", fmt::format("{}", f)}},
+                         {Pnp(), Upright("u"), Upright("no-ransac", {{"ransac", "false"}})}});
+  } else if (table == "kf") {
+    std::vector<PixhawkVariant> variants = {
+        Upright("upright-2p (raw)"),
+        {"pixhawk-kf <- upright-2p", "pixhawk-kf", {}},
+        Pnp(),
+        {"pixhawk-kf <- pnp, roll/pitch check 5 deg", "pixhawk-kf", {{"source", "pnp"}}},
+        {"pixhawk-kf <- pnp, no check",
+         "pixhawk-kf",
+         {{"source", "pnp"}, {"attitude_check_deg", "0"}}},
+    };
+    for (const auto& c : kKfConditions) {
+      std::vector<PixhawkVariant> condition_variants = variants;
+      if (c.dropped)
+        condition_variants.push_back(
+            {"pixhawk-kf <- upright-2p, nominal dt", "pixhawk-kf", {{"use_measured_dt", "false"}}});
+      configs.push_back({c.name, c.scenario, condition_variants});
+    }
+  } else if (table == "timestamps") {
+    for (const double speed : kSpeedsMs)
+      for (const auto& c : kStampCases)
+        configs.push_back(
+            {StampsName(speed, c),
+             {{"image_stamping", c.stamping}, {"speed_m_s", fmt::format("{}", speed)}},
+             {Upright("upright-2p", {{"image_delay_ms", c.compensation_ms}}),
+              {"pixhawk-kf", "pixhawk-kf", {{"image_delay_ms", c.compensation_ms}}}}});
+  }
+  return configs;
+}
+
+const std::vector<std::string> kTableOrder = {"fig15", "sweep", "kf", "timestamps"};
+
+// The configurations of the selected tables, in report order.
+std::vector<PixhawkConfig> SelectedConfigs(const std::set<std::string>& tables) {
+  std::vector<PixhawkConfig> configs;
+  for (const auto& table : kTableOrder) {
+    if (!tables.count(table)) continue;
+    for (auto& c : TableConfigs(table)) configs.push_back(std::move(c));
+  }
+  return configs;
+}
+
+// ---- the tables, from the summed Metrics of their configurations ----
+
 // fig15: the defaults.
-Table Fig15(const Context& ctx) {
+Table Fig15(const PixhawkResults& results) {
   Table t;
   t.header = {"estimator"};
   t.header.insert(t.header.end(), kMetricHeader.begin(), kMetricHeader.end());
   t.header.push_back("ms/frame");
-  const std::vector<PixhawkVariant> variants = {Pnp(),
-                                                Upright("upright-2p (gravity EKF roll/pitch)")};
-  const auto metrics = RunConfig(ctx, {}, variants, "fig15");
-  for (size_t v = 0; v < variants.size(); ++v) {
+  const PixhawkConfig config = TableConfigs("fig15").front();
+  const auto& metrics = results.at(config.name);
+  for (size_t v = 0; v < config.variants.size(); ++v) {
     auto row = MetricCells(metrics[v]);
-    row.insert(row.begin(), variants[v].label);
+    row.insert(row.begin(), config.variants[v].label);
     row.push_back(PixhawkNumber(metrics[v].MsPerFrame(), 3));
     t.rows.push_back(row);
     nlohmann::json j = MetricsJson(metrics[v]);
-    j["estimator"] = variants[v].label;
+    j["estimator"] = config.variants[v].label;
     t.json.push_back(j);
   }
   const Metrics& p = metrics[0];
@@ -249,48 +449,33 @@ std::string Verdict(const Metrics& pnp, const Metrics& upright) {
   return "pnp better";
 }
 
-Table Sweep(const Context& ctx) {
+Table Sweep(const PixhawkResults& results) {
   std::vector<SweepRow> rows;
-  // IMU attitude error, with all markers and with one marker in view.
-  const std::vector<double> attitude_errors = {0.05, 0.1, 0.25, 0.5, 1.0, 2.0};
-  for (const char* markers : {"0", "1"}) {
-    std::vector<PixhawkVariant> variants = {Pnp()};
-    for (const double e : attitude_errors)
-      variants.push_back(
-          Upright(fmt::format("upright-2p {} deg", e),
-                  {{"attitude", "truth"}, {"attitude_error_deg", fmt::format("{}", e)}}));
-    const std::string markers_label = std::string(markers) == "0" ? "all" : markers;
-    const auto m = RunConfig(ctx, {{"max_markers", markers}}, variants,
-                             fmt::format("sweep attitude, markers {}", markers_label));
-    for (size_t i = 0; i < attitude_errors.size(); ++i)
-      rows.push_back({fmt::format("IMU attitude error [deg], {} marker(s)", markers_label),
-                      fmt::format("{}", attitude_errors[i]),
+  for (const std::string markers : {"0", "1"}) {
+    const auto& m = results.at(SweepAttitudeName(markers));
+    for (size_t i = 0; i < kAttitudeErrorsDeg.size(); ++i)
+      rows.push_back({fmt::format("IMU attitude error [deg], {} marker(s)", MarkersLabel(markers)),
+                      fmt::format("{}", kAttitudeErrorsDeg[i]),
                       m[0],
                       m[i + 1],
                       {}});
   }
-  for (const double px : {0.5, 1.0, 2.0, 3.0}) {
-    const auto m = RunConfig(ctx, {{"pixel_noise_px", fmt::format("{}", px)}},
-                             {Pnp(), Upright("u")}, fmt::format("sweep pixel noise {}", px));
+  for (const double px : kPixelNoisesPx) {
+    const auto& m = results.at(SweepPixelName(px));
     rows.push_back({"pixel noise [px]", fmt::format("{}", px), m[0], m[1], {}});
   }
-  for (const char* markers : {"1", "2", "4", "0"}) {
-    const auto m = RunConfig(ctx, {{"max_markers", markers}}, {Pnp(), Upright("u")},
-                             fmt::format("sweep markers {}", markers));
-    rows.push_back(
-        {"markers in view", std::string(markers) == "0" ? "all" : markers, m[0], m[1], {}});
+  for (const auto& markers : kMarkerCounts) {
+    const auto& m = results.at(SweepMarkersName(markers));
+    rows.push_back({"markers in view", MarkersLabel(markers), m[0], m[1], {}});
   }
-  for (const double f : {0.0, 0.05, 0.1, 0.2}) {
-    const auto m = RunConfig(ctx, {{"outlier_fraction", fmt::format("{}", f)}},
-                             {Pnp(), Upright("u"), Upright("no-ransac", {{"ransac", "false"}})},
-                             fmt::format("sweep outliers {}", f));
+  for (const double f : kOutlierFractions) {
+    const auto& m = results.at(SweepOutliersName(f));
     rows.push_back({"outlier corners [%]",
                     fmt::format("{}", 100.0 * f),
                     m[0],
                     m[1],
                     {{"upright-2p without RANSAC", m[2]}}});
   }
-
   Table t;
   t.header = {"factor",        "value",
               "pnp RMSE [cm]", "upright-2p RMSE [cm]",
@@ -362,47 +547,26 @@ Table Sweep(const Context& ctx) {
   return t;
 }
 
-Table Kf(const Context& ctx) {
+Table Kf(const PixhawkResults& results) {
   Table t;
   t.header = {"condition", "estimator"};
   t.header.insert(t.header.end(), kMetricHeader.begin(), kMetricHeader.end());
   t.header.push_back("velocity RMSE [m/s]");
   t.header.push_back("rejected or predicted frames");
-  const std::vector<PixhawkVariant> variants = {
-      Upright("upright-2p (raw)"),
-      {"pixhawk-kf <- upright-2p", "pixhawk-kf", {}},
-      Pnp(),
-      {"pixhawk-kf <- pnp, roll/pitch check 5 deg", "pixhawk-kf", {{"source", "pnp"}}},
-      {"pixhawk-kf <- pnp, no check",
-       "pixhawk-kf",
-       {{"source", "pnp"}, {"attitude_check_deg", "0"}}},
-  };
-  struct Condition {
-    std::string label;
-    Settings scenario;
-    std::vector<PixhawkVariant> variants;
-  };
-  std::vector<PixhawkVariant> dropped = variants;
-  dropped.push_back(
-      {"pixhawk-kf <- upright-2p, nominal dt", "pixhawk-kf", {{"use_measured_dt", "false"}}});
-  const std::vector<Condition> conditions = {
-      {"defaults", {}, variants},
-      {"one marker in view", {{"max_markers", "1"}}, variants},
-      {"20 % frames dropped", {{"frame_drop_fraction", "0.2"}}, dropped},
-  };
-  for (const auto& c : conditions) {
-    const auto metrics = RunConfig(ctx, c.scenario, c.variants, "kf " + c.label);
-    for (size_t v = 0; v < c.variants.size(); ++v) {
+  const auto configs = TableConfigs("kf");
+  for (size_t c = 0; c < configs.size(); ++c) {
+    const auto& metrics = results.at(configs[c].name);
+    for (size_t v = 0; v < configs[c].variants.size(); ++v) {
       const Metrics& m = metrics[v];
       auto row = MetricCells(m);
-      row.insert(row.begin(), c.variants[v].label);
-      row.insert(row.begin(), c.label);
+      row.insert(row.begin(), configs[c].variants[v].label);
+      row.insert(row.begin(), kKfConditions[c].label);
       row.push_back(PixhawkNumber(m.VelocityRmse(), 3));
       row.push_back(fmt::format("{}", m.failures));
       t.rows.push_back(row);
       nlohmann::json j = MetricsJson(m);
-      j["condition"] = c.label;
-      j["estimator"] = c.variants[v].label;
+      j["condition"] = kKfConditions[c].label;
+      j["estimator"] = configs[c].variants[v].label;
       t.json.push_back(j);
     }
   }
@@ -414,33 +578,26 @@ Table Kf(const Context& ctx) {
   return t;
 }
 
-Table Timestamps(const Context& ctx) {
+Table Timestamps(const PixhawkResults& results) {
   Table t;
   t.header = {"speed [m/s]", "stamps", "estimator"};
   t.header.insert(t.header.end(), kMetricHeader.begin(), kMetricHeader.end());
-  for (const double speed : {0.5, 1.5}) {
-    struct Case {
-      std::string label, stamping, compensation_ms;
-    };
-    for (const Case& c : {Case{"exposure (hardware trigger)", "exposure", "0"},
-                          Case{"arrival, uncompensated", "arrival", "0"},
-                          Case{"arrival, mean delay 17.5 ms subtracted", "arrival", "17.5"}}) {
-      const std::vector<PixhawkVariant> variants = {
-          Upright("upright-2p", {{"image_delay_ms", c.compensation_ms}}),
-          {"pixhawk-kf", "pixhawk-kf", {{"image_delay_ms", c.compensation_ms}}}};
-      const auto metrics =
-          RunConfig(ctx, {{"image_stamping", c.stamping}, {"speed_m_s", fmt::format("{}", speed)}},
-                    variants, fmt::format("timestamps {} m/s {}", speed, c.label));
-      for (size_t v = 0; v < variants.size(); ++v) {
+  const auto configs = TableConfigs("timestamps");
+  size_t c = 0;
+  for (const double speed : kSpeedsMs) {
+    for (const auto& stamp_case : kStampCases) {
+      const PixhawkConfig& config = configs[c++];
+      const auto& metrics = results.at(config.name);
+      for (size_t v = 0; v < config.variants.size(); ++v) {
         auto row = MetricCells(metrics[v]);
-        row.insert(row.begin(), variants[v].label);
-        row.insert(row.begin(), c.label);
+        row.insert(row.begin(), config.variants[v].label);
+        row.insert(row.begin(), stamp_case.label);
         row.insert(row.begin(), fmt::format("{}", speed));
         t.rows.push_back(row);
         nlohmann::json j = MetricsJson(metrics[v]);
         j["speed_m_s"] = speed;
-        j["stamps"] = c.label;
-        j["estimator"] = variants[v].label;
+        j["stamps"] = stamp_case.label;
+        j["estimator"] = config.variants[v].label;
         t.json.push_back(j);
       }
     }
@@ -452,59 +609,85 @@ Table Timestamps(const Context& ctx) {
   return t;
 }
 
-}  // namespace
-
-int RunPixhawkRepro(const ReproOptions& options) {
-  Context ctx;
-  ctx.runs = options.runs.value_or(kPixhawkDefaultRuns);
-  ctx.seed = options.seed;
-  std::set<std::string> tables = {"fig15", "sweep", "kf", "timestamps"};
-  for (const auto& [key, value] : options.settings) {
-    if (key == "tables") {
-      tables.clear();
-      std::stringstream list(value);
-      std::string name;
-      while (std::getline(list, name, ',')) {
-        if (name != "fig15" && name != "sweep" && name != "kf" && name != "timestamps")
-          throw InputError("repro pixhawk: --set tables: unknown table '" + name +
-                           "' (fig15, sweep, kf, timestamps)");
-        tables.insert(name);
-      }
-    } else if (key == "duration_s") {
-      try {
-        ctx.duration_s = std::stod(value);
-      } catch (const std::exception&) {
-        throw InputError("repro pixhawk: --set duration_s=" + value + ": expected a number");
-      }
-    } else {
-      ctx.base[key] = value;
+// One unit: {"variants": [sums of each variant's Metrics]} for the configuration and seed.
+nlohmann::json PixhawkUnitResult(const PixhawkSettings& settings, const std::string& unit,
+                                 uint64_t seed) {
+  for (const auto& table : kTableOrder) {
+    for (const auto& config : TableConfigs(table)) {
+      if (config.name != unit) continue;
+      nlohmann::json variants = nlohmann::json::array();
+      for (const auto& m : RunConfigOnce(settings, config, seed))
+        variants.push_back(MetricsSums(m));
+      return {{"variants", variants}};
     }
   }
+  throw InputError("repro pixhawk: no unit '" + unit + "'");
+}
+
+}  // namespace
+
+nlohmann::json RunPixhawkReproUnit(const std::map<std::string, std::string>& settings,
+                                   const std::string& unit, uint64_t seed) {
+  return PixhawkUnitResult(ParsePixhawkSettings(settings), unit, seed);
+}
+
+int RunPixhawkRepro(const ReproOptions& options) {
+  const PixhawkSettings settings = ParsePixhawkSettings(options.settings);
+  const int runs = options.runs.value_or(kPixhawkDefaultRuns);
+  if (runs < 1) throw InputError("repro pixhawk: --runs must be >= 1");
+  if (options.jobs < 1) throw InputError("repro pixhawk: --jobs must be >= 1");
   // Validate the scenario settings once, before the long runs (the registry's generate also
   // rejects keys the scenario does not have).
   {
     ScenarioOptions check;
-    check.settings = ctx.base;
-    check.duration_s = ctx.duration_s;
+    check.settings = settings.base;
+    check.duration_s = settings.duration_s;
     FindScenario("marker-board-flight")->generate(check);
   }
 
-  std::map<std::string, Table> results;
-  for (const char* name : {"fig15", "sweep", "kf", "timestamps"}) {
-    if (!tables.count(name)) continue;
-    const std::string n = name;
-    if (n == "fig15") results[n] = Fig15(ctx);
-    if (n == "sweep") results[n] = Sweep(ctx);
-    if (n == "kf") results[n] = Kf(ctx);
-    if (n == "timestamps") results[n] = Timestamps(ctx);
+  // Units: (configuration, seed), grid index = configuration index * runs + k. Every result goes
+  // through its JSON text, here or in a sweep worker, and the runs' sums are added in seed order,
+  // so --jobs changes nothing but the time.
+  const std::vector<PixhawkConfig> configs = SelectedConfigs(settings.tables);
+  std::vector<std::string> unit_names;
+  for (const auto& c : configs) unit_names.push_back(c.name);
+  std::vector<size_t> indices;
+  for (size_t i = 0; i < configs.size() * static_cast<size_t>(runs); ++i) indices.push_back(i);
+  std::vector<nlohmann::json> unit_results;
+  if (options.jobs > 1) {
+    unit_results = RunReproUnitsInWorkers("pixhawk", options, unit_names, runs, indices);
+  } else {
+    for (const size_t index : indices) {
+      const PixhawkConfig& config = configs[index / static_cast<size_t>(runs)];
+      const int k = static_cast<int>(index % static_cast<size_t>(runs));
+      ReportProgress("repro pixhawk", fmt::format("{} run {}/{}", config.name, k + 1, runs));
+      unit_results.push_back(nlohmann::json::parse(
+          PixhawkUnitResult(settings, config.name, options.seed + static_cast<uint64_t>(k))
+              .dump()));
+    }
   }
+  PixhawkResults results;
+  for (size_t i = 0; i < indices.size(); ++i) {
+    const PixhawkConfig& config = configs[indices[i] / static_cast<size_t>(runs)];
+    auto& total = results[config.name];
+    total.resize(config.variants.size());
+    const nlohmann::json& variants = unit_results[i].at("variants");
+    for (size_t v = 0; v < config.variants.size(); ++v)
+      total[v].Add(MetricsFromSums(variants.at(v)));
+  }
+
+  std::map<std::string, Table> tables;
+  if (settings.tables.count("fig15")) tables["fig15"] = Fig15(results);
+  if (settings.tables.count("sweep")) tables["sweep"] = Sweep(results);
+  if (settings.tables.count("kf")) tables["kf"] = Kf(results);
+  if (settings.tables.count("timestamps")) tables["timestamps"] = Timestamps(results);
 
   ReportFiles files;
   std::ostringstream md;
   md << "# PIXHAWK marker localization (Meier et al., Autonomous Robots 2012)\n\n"
-     << fmt::format("Scenario marker-board-flight, {} run(s) per configuration, seeds {}..{}",
-                    ctx.runs, ctx.seed, ctx.seed + ctx.runs - 1);
-  if (ctx.duration_s) md << fmt::format(", flight cut at {} s", *ctx.duration_s);
+     << fmt::format("Scenario marker-board-flight, {} run(s) per configuration, seeds {}..{}", runs,
+                    options.seed, options.seed + runs - 1);
+  if (settings.duration_s) md << fmt::format(", flight cut at {} s", *settings.duration_s);
   md << ".\n\nMetrics pooled over every output frame of every run: position error |p_est - "
         "p_true| (truth interpolated at the output stamp, no alignment), RMSE and max; jumps: "
         "consecutive outputs whose position error changes by more than 10 cm (per run); yaw and "
@@ -512,21 +695,22 @@ int RunPixhawkRepro(const ReproOptions& options) {
         "qualitative (upright-2p smoother and more accurate, no large jumps).\n";
   nlohmann::json json;
   json["paper"] = "Meier et al., PIXHAWK, Autonomous Robots 2012, sections 3.2-3.3, 5.1, 7.1-7.2";
-  json["runs"] = ctx.runs;
-  json["seed"] = ctx.seed;
+  json["runs"] = runs;
+  json["seed"] = options.seed;
+  json["jobs"] = options.jobs;
   const std::map<std::string, std::string> titles = {
       {"fig15", "fig15: pnp vs upright-2p at the defaults"},
       {"sweep", "sweep: where the known vertical helps"},
       {"kf", "kf: 4 x 1-D constant-velocity Kalman filters"},
       {"timestamps", "timestamps: exposure vs arrival stamps"}};
-  for (const char* name : {"fig15", "sweep", "kf", "timestamps"}) {
-    const auto it = results.find(name);
-    if (it == results.end()) continue;
+  for (const auto& name : kTableOrder) {
+    const auto it = tables.find(name);
+    if (it == tables.end()) continue;
     md << "\n## " << titles.at(name) << "\n\n"
        << MarkdownTable(it->second.header, it->second.rows) << "\n"
        << it->second.notes << "\n";
     json["tables"][name] = {{"rows", it->second.json}, {"notes", it->second.notes}};
-    files.extra[std::string(name) + ".csv"] = it->second.Csv();
+    files.extra[name + ".csv"] = it->second.Csv();
   }
   files.markdown = md.str();
   files.json = json;

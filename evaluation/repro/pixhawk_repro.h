@@ -26,12 +26,27 @@
 //
 // Settings (`--set key=value`): tables (comma list, default "fig15,sweep,kf,timestamps");
 // duration_s (cut the flight, for quick runs); any other key goes to the scenario.
+//
+// Runs on the sweep machinery (issue 16): a unit is one configuration of a table (its scenario
+// settings and variants, e.g. "sweep-pixel-noise-2" or "kf-frames-dropped") and one seed, and
+// returns the sums behind each variant's metrics as JSON; the report adds them in seed order, so
+// `--jobs N` (default: the core count) gives the numbers of `--jobs 1` (only ms/frame, a wall
+// time, differs).
 #pragma once
+
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
 
 #include "evaluation/repro/repro.h"
 
 namespace mavloc {
 
 int RunPixhawkRepro(const ReproOptions& options);
+
+// One unit: the configuration `unit` (see above) simulated with `seed`, every variant measured.
+nlohmann::json RunPixhawkReproUnit(const std::map<std::string, std::string>& settings,
+                                   const std::string& unit, uint64_t seed);
 
 }  // namespace mavloc

@@ -11,6 +11,7 @@
 #include "core/errors.h"
 #include "core/rotation.h"
 #include "solver/board/board_gravity_from_positions.h"
+#include "solver/imu/imu_integrator.h"
 #include "solver/laser/laser_calibration.h"
 #include "solver/smoother/tilt_manifold.h"
 
@@ -230,6 +231,93 @@ SmootherResult SolveRobustly(const Dataset& dataset, const std::vector<SmootherK
   return kept;
 }
 
+// Whether a solution's cost is plausible for its residuals: twice the cost (the sum of squared
+// whitened residuals) within kPlausibleCostFactor times the number of residual dimensions (15 per
+// IMU factor: preintegration and bias walk; 2 per visual residual), whose expectation it would be
+// minus the parameters. A loose test: real sensors are not exactly their noise model; a seed gone
+// astray leaves the cost orders of magnitude above it.
+constexpr double kPlausibleCostFactor = 10.0;
+// The growing window's first span (option grow_window_s; 0 turns the growing window off).
+constexpr double kDefaultGrowWindowS = 3.0;
+bool CostIsPlausible(const SmootherStatistics& statistics) {
+  const double dims = 15.0 * statistics.num_imu_factors + 2.0 * statistics.num_visual_residuals;
+  return 2.0 * statistics.final_cost <= kPlausibleCostFactor * std::max(dims, 1.0);
+}
+
+// The growing window of laser-only data: the seed (laser-ekf, which has no bias states) can leave
+// real biases unmodelled and diverge (euroc-laser: after about 11 s), and a smoother started from
+// the diverged part stalls. So the smoother is solved on the first window_s seconds of keyframes,
+// then on windows twice as long but at most 2 window_s longer (dead reckoning over longer spans
+// on a real IMU leaves the new keyframes' spots off the plane), until it holds every keyframe;
+// each new keyframe starts from the IMU integrated (solver/imu/imu_integrator.h) from the previous
+// solution's last keyframe with that keyframe's biases, and the plane from the previous solution.
+// The statistics add up all solves.
+SmootherResult SolveInGrowingWindows(const Dataset& dataset,
+                                     const std::vector<SmootherKeyframe>& seeded,
+                                     const Plane& plane, const SmootherProblemOptions& options,
+                                     bool graduated, double window_s) {
+  const TimeNs t0 = seeded.front().t_ns;
+  TimeNs window_ns = SecondsToNs(window_s);
+  // New keyframes start from IMU dead reckoning: a window grows by at most 2 window_s at a time.
+  const TimeNs max_step_ns = 2 * window_ns;
+  std::vector<SmootherKeyframe> current;
+  for (const auto& kf : seeded)
+    if (kf.t_ns - t0 <= window_ns) current.push_back(kf);
+  std::optional<Plane> current_plane = plane;
+  SmootherStatistics earlier;  // of the solves before the last (times and iterations add up)
+  const ImuIntegrator integrator(&dataset.imu.samples);
+  while (true) {
+    const bool last = current.size() == seeded.size();
+    SmootherProblemOptions stage_options = options;
+    if (!last) stage_options.compute_covariance = false;
+    SmootherResult result =
+        SolveRobustly(dataset, current, {}, current_plane, stage_options, graduated);
+    // Spots whose beam misses the plane at the start of a solve are left out of it; once every
+    // keyframe is in, solve again from the solution while that brings spots back (at most twice).
+    for (int polish = 0; last && polish < 2 && result.usable && result.plane &&
+                         result.keyframes.size() == current.size();
+         ++polish) {
+      SmootherResult again =
+          SolveRobustly(dataset, result.keyframes, {}, result.plane, stage_options, graduated);
+      if (!again.usable ||
+          again.statistics.num_visual_residuals <= result.statistics.num_visual_residuals) {
+        AddStatistics(again.statistics, &earlier);
+        break;
+      }
+      AddStatistics(result.statistics, &earlier);
+      result = std::move(again);
+    }
+    if (last || !result.usable || !result.plane || result.keyframes.size() != current.size()) {
+      AddStatistics(earlier, &result.statistics);
+      if (!last && result.usable)
+        result.message = "growing window stopped at " + std::to_string(current.size()) + " of " +
+                         std::to_string(seeded.size()) + " keyframes";
+      if (!last) result.usable = false;
+      return result;
+    }
+    AddStatistics(result.statistics, &earlier);
+    current_plane = result.plane;
+    current = result.keyframes;
+    window_ns = std::min(2 * window_ns, window_ns + max_step_ns);
+    for (size_t k = current.size(); k < seeded.size() && seeded[k].t_ns - t0 <= window_ns; ++k) {
+      const SmootherKeyframe& previous = current.back();
+      NavState state;
+      state.t_ns = previous.t_ns;
+      state.q_W_B = previous.state.q_W_B;
+      state.p_W = previous.state.p_W;
+      state.v_W = previous.state.v_W;
+      const NavState next = integrator.Integrate(state, seeded[k].t_ns, previous.state.biases);
+      SmootherKeyframe kf;
+      kf.t_ns = seeded[k].t_ns;
+      kf.state.q_W_B = next.q_W_B;
+      kf.state.p_W = next.p_W;
+      kf.state.v_W = next.v_W;
+      kf.state.biases = previous.state.biases;
+      current.push_back(kf);
+    }
+  }
+}
+
 }  // namespace
 
 SmootherEstimator::SmootherEstimator(const EstimatorOptions& options) : options_(options) {
@@ -252,6 +340,8 @@ SmootherEstimator::SmootherEstimator(const EstimatorOptions& options) : options_
     throw InputError("smoother: |time_offset_init_ms| must not exceed max_time_offset_ms");
   if (!(options_.GetDouble("gravity_window_s", 2.0) >= 0.5))
     throw InputError("smoother: gravity_window_s must be >= 0.5");
+  if (!(options_.GetDouble("grow_window_s", kDefaultGrowWindowS) >= 0.0))
+    throw InputError("smoother: grow_window_s must be >= 0");
 }
 
 std::vector<int> SmootherEstimator::CamerasFor(const Dataset& dataset) const {
@@ -383,7 +473,7 @@ Estimate SmootherEstimator::Run(const Dataset& dataset) {
     return estimate;
   }
   const Estimate seed_estimate = seed->Run(dataset);
-  if (IsLaserOnly(dataset)) return RunLaserOnly(dataset, seed_estimate);
+  if (IsLaserOnly(dataset)) return RunFromLaserModes(dataset, seed_estimate);
   std::vector<StampedPose> seed_poses = SeedPoses(seed_estimate);
   // On a board map a seed that already estimated its own T_W_M reports T_W_B: back into M.
   if (dataset.map.frame == MapFrame::kBoard && seed_estimate.T_W_M) {
@@ -397,7 +487,8 @@ bool SmootherEstimator::IsLaserOnly(const Dataset& dataset) const {
   return !dataset.laser.empty() && dataset.features.empty() && !HasMapTags(dataset);
 }
 
-Estimate SmootherEstimator::RunLaserOnly(const Dataset& dataset, const Estimate& seed_estimate) {
+Estimate SmootherEstimator::RunFromLaserModes(const Dataset& dataset,
+                                              const Estimate& seed_estimate) {
   const SmootherProblemOptions problem_options = ProblemOptionsFor(dataset);
   Estimate estimate;
   estimate.quantities =
@@ -409,8 +500,24 @@ Estimate SmootherEstimator::RunLaserOnly(const Dataset& dataset, const Estimate&
       InitializeFromLaserModes(dataset, times, seed_estimate.quantities, &gauge_plane);
   for (const auto& [reason, count] : init.failures)
     if (reason.find("missing") != std::string::npos) estimate.failures["init: " + reason] += count;
-  last_result_ = SolveRobustly(dataset, init.keyframes, {}, gauge_plane, problem_options,
-                               options_.GetBool("graduated", true));
+  const bool graduated = options_.GetBool("graduated", true);
+  last_result_ =
+      SolveRobustly(dataset, init.keyframes, {}, gauge_plane, problem_options, graduated);
+  // A solution whose cost is far above its residuals' expectation started from a seed that went
+  // astray (laser-ekf has no bias states: on the real IMU of euroc-laser it diverges after ~11 s):
+  // the growing window starts from the seed's first seconds only; the lower cost is kept.
+  const double window_s = options_.GetDouble("grow_window_s", kDefaultGrowWindowS);
+  if (window_s > 0.0 && (!last_result_.usable || !CostIsPlausible(last_result_.statistics))) {
+    SmootherResult grown = SolveInGrowingWindows(dataset, init.keyframes, gauge_plane,
+                                                 problem_options, graduated, window_s);
+    if (grown.usable && (!last_result_.usable ||
+                         grown.statistics.final_cost < last_result_.statistics.final_cost)) {
+      AddStatistics(last_result_.statistics, &grown.statistics);
+      last_result_ = std::move(grown);
+    } else {
+      AddStatistics(grown.statistics, &last_result_.statistics);
+    }
+  }
   const SmootherResult& result = last_result_;
   if (!result.usable || !result.plane) {
     estimate.failures["smoother: " +

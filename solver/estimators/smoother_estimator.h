@@ -46,6 +46,10 @@
 //   time_offset_init_ms  initial t_d (0)     max_time_offset_ms  |t_d| bound (30)
 //   calibration_covariance 0/1: marginal covariances of the estimated calibration (1)
 //   gravity_window_s     board maps: seed window for the initial gravity direction (2)
+//   grow_window_s        laser-only data whose solution has an implausible cost (a seed gone
+//                        astray): solve again on the first grow_window_s seconds, then on windows
+//                        grown by up to 2 grow_window_s at a time, new keyframes from the IMU;
+//                        keep the lower cost (3; 0: off)
 // On a board map (MapFrame::kBoard) the gravity direction in M is always estimated: the seed's
 // poses are in M; EstimateUpInBoardFromPositions (solver/board/board_gravity_from_positions.h)
 // gives the initial up_M from the first gravity_window_s of them and the accelerometer; the
@@ -77,6 +81,10 @@ class SmootherEstimator : public Estimator {
   // poses are in the map's frame: W, or the board frame M on a board map (T_M_B).
   Estimate RunFromSeedPoses(const Dataset& dataset, const std::vector<StampedPose>& seed_poses);
 
+  // Laser-only data: keyframes from the laser EKF's modes (seed_estimate.quantities: d, v_o, roll,
+  // pitch, alpha), output the modes' quantities (Run uses laser-ekf's; tests give their own).
+  Estimate RunFromLaserModes(const Dataset& dataset, const Estimate& seed_estimate);
+
   // The seed estimator used for a dataset, and the problem options derived from it.
   std::string SeedEstimatorFor(const Dataset& dataset) const;
   SmootherProblemOptions ProblemOptionsFor(const Dataset& dataset) const;
@@ -86,8 +94,6 @@ class SmootherEstimator : public Estimator {
  private:
   // Camera indices whose tags enter (option `cameras`).
   std::vector<int> CamerasFor(const Dataset& dataset) const;
-  // Laser-only data: keyframes from the laser EKF's modes, output the modes' quantities.
-  Estimate RunLaserOnly(const Dataset& dataset, const Estimate& seed_estimate);
   bool IsLaserOnly(const Dataset& dataset) const;
 
   EstimatorOptions options_;

@@ -1,7 +1,7 @@
-// `mavloc repro smoother|three-point|laser --jobs N` run on the sweep machinery (issue 16): N
-// workers give the numbers of one process, because every run's result goes through the same JSON
-// text either way; only the wall-clock fields differ. A reproduction that has no units refuses
-// --jobs > 1.
+// `mavloc repro smoother|three-point|laser|pixhawk|apriltag --jobs N` run on the sweep machinery
+// (issue 16): N workers give the numbers of one process, because every run's result goes through
+// the same JSON text either way; only the wall-clock fields differ. A reproduction that has no
+// units (euroc-imu-april: one run on one real log) refuses --jobs > 1.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -26,7 +26,8 @@ std::string Read(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-// The report without its wall-clock fields (run times, the bound's compute time, the job count).
+// The report without its wall-clock fields (run times, times per frame, the bound's compute time,
+// the job count).
 nlohmann::json WithoutTimes(const nlohmann::json& json) {
   if (json.is_array()) {
     nlohmann::json out = nlohmann::json::array();
@@ -36,8 +37,8 @@ nlohmann::json WithoutTimes(const nlohmann::json& json) {
   if (!json.is_object()) return json;
   nlohmann::json out = nlohmann::json::object();
   for (const auto& [key, value] : json.items()) {
-    if (key.find("runtime") != std::string::npos || key == "elapsed_s" || key == "jobs" ||
-        key == "cramer_rao_compute_s")
+    if (key.find("runtime") != std::string::npos || key.find("ms_per_frame") != std::string::npos ||
+        key == "elapsed_s" || key == "jobs" || key == "cramer_rao_compute_s")
       continue;
     out[key] = WithoutTimes(value);
   }
@@ -135,11 +136,45 @@ TEST(ReproJobs, LaserGivesTheSameNumbersInTwoWorkers) {
   ExpectSameResults(runs, dir, {"report.md", "runs.csv"});
 }
 
+// pixhawk: the kf table (three configurations), two seeds each: 6 units. Without fig15 (whose
+// ms/frame is a wall time) report.md is the same byte for byte too.
+TEST(ReproJobs, PixhawkGivesTheSameNumbersInTwoWorkers) {
+  const std::string dir = MakeTempDir();
+  const TwoRuns runs = RunSerialAndParallel(
+      CliPath() + " repro pixhawk --runs 2 --seed 6 --set tables=kf --set duration_s=6", dir);
+  ASSERT_FALSE(runs.serial.is_null() || runs.parallel.is_null());
+  const nlohmann::json& kf = runs.serial["tables"]["kf"]["rows"];
+  ASSERT_EQ(kf.size(), 16u) << kf.dump(1);  // 5 + 5 + 6 variants
+  EXPECT_EQ(kf[0]["runs"], 2);
+  EXPECT_GT(kf[0]["position_rmse_cm"].get<double>(), 0.0);
+  EXPECT_FALSE(runs.serial["tables"].contains("fig15"));
+  ExpectSameResults(runs, dir, {"kf.csv", "report.md"});
+}
+
+// apriltag: the dynamic unit and three hover units, from rendered and detected images; the
+// hover's images are rendered by whichever worker runs a hover unit, and are the same in each.
+TEST(ReproJobs, AprilTagGivesTheSameNumbersInTwoWorkers) {
+  const std::string dir = MakeTempDir();
+  const TwoRuns runs =
+      RunSerialAndParallel(CliPath() +
+                               " repro apriltag --runs 3 --seed 2 --set hover_duration_s=3 "
+                               "--set dynamic_duration_s=8 --set supersampling=1 --set decimate=2",
+                           dir);
+  ASSERT_FALSE(runs.serial.is_null() || runs.parallel.is_null());
+  const nlohmann::json& tables = runs.serial["tables"];
+  EXPECT_EQ(tables["hover"]["runs"], 3);
+  EXPECT_EQ(tables["hover"]["p0_matched"]["position"]["final_m"]["count"], 3);
+  EXPECT_GT(tables["images"]["hover"]["frames"].get<int>(), 0);
+  EXPECT_GT(tables["images"]["dynamic"]["detections"].get<int>(), 0);
+  EXPECT_EQ(runs.serial["hover_images_seed"], 2);
+  ExpectSameResults(runs, dir, {"hover_envelope.csv", "nees.csv", "dynamic_errors.csv"});
+}
+
 TEST(ReproJobs, ReproductionsWithoutUnitsRefuseJobs) {
   const std::string dir = MakeTempDir();
-  const auto r = RunCommand(CliPath() + " repro pixhawk --jobs 2 --report " + dir + "/r");
+  const auto r = RunCommand(CliPath() + " repro euroc-imu-april --jobs 2 --report " + dir + "/r");
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("--jobs 2: repro pixhawk runs in one process"), std::string::npos)
+  EXPECT_NE(r.output.find("--jobs 2: repro euroc-imu-april runs in one process"), std::string::npos)
       << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir + "/r"));
 }
