@@ -1,9 +1,12 @@
 // mavloc compare: run every applicable estimator on a dataset or a simulated scenario, print one
 // table and write a report folder (report.md, report.json, errors.csv, the trajectories, figures
 // and report.html).
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <optional>
 
 #include "cli/commands.h"
@@ -66,6 +69,10 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
     const bool explicit_list = !args->estimators.empty();
     if (explicit_list) {
       names = SplitList(args->estimators);
+      if (names.empty())
+        throw InputError(
+            "--estimators '" + args->estimators +
+            "': the list is empty (give names separated by commas; see `mavloc list`)");
       for (const auto& name : names)
         if (!FindEstimator(name))
           throw InputError("unknown estimator '" + name + "' (see `mavloc list`)");
@@ -113,6 +120,32 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
                          "neither an estimator name (see `mavloc list`) nor an existing file");
       else
         reference = ReferenceFromTrajectory(args->reference, ReadTrajectoryFile(args->reference));
+      // Like a ground truth (RequireUsableGroundTruth): a reference that does not overlap the
+      // sensor data in time can judge no estimate, so it is refused instead of a table of "-".
+      TimeNs data_begin = std::numeric_limits<TimeNs>::max();
+      TimeNs data_end = std::numeric_limits<TimeNs>::min();
+      auto add = [&](TimeNs t) {
+        data_begin = std::min(data_begin, t);
+        data_end = std::max(data_end, t);
+      };
+      for (const auto& s : dataset.imu.samples) add(s.t_ns);
+      for (const auto& camera : dataset.cameras)
+        for (const auto& f : camera.frames) add(f.t_ns);
+      for (const auto& f : dataset.features) add(f.t_ns);
+      for (const auto& l : dataset.laser) add(l.t_ns);
+      for (const auto& t : dataset.tags) add(t.t_ns);
+      for (const auto& t : dataset.tags1) add(t.t_ns);
+      std::vector<TimeNs> stamps = reference->quantities.t_ns;
+      for (const auto& p : reference->poses) stamps.push_back(p.t_ns);
+      const auto [ref_begin, ref_end] = std::minmax_element(stamps.begin(), stamps.end());
+      if (!stamps.empty() && data_begin <= data_end &&
+          (*ref_end < data_begin || *ref_begin > data_end))
+        throw InputError(args->reference, 0, "--reference",
+                         fmt::format("covers {:.3f} s to {:.3f} s but the sensor data cover "
+                                     "{:.3f} s to {:.3f} s: no overlap, so no estimate can be "
+                                     "judged",
+                                     NsToSeconds(*ref_begin), NsToSeconds(*ref_end),
+                                     NsToSeconds(data_begin), NsToSeconds(data_end)));
     }
 
     EvaluationOptions evaluation_options;
@@ -219,7 +252,7 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
     files.extra["errors.csv"] = ErrorsCsv(evaluations);
     files.extra.merge(ComparisonTrajectoryFiles(dataset, evaluations));
     WriteReportFolder(report.path(), files);
-    const FigureOutcome figures = WriteReportFigures(report.path());
+    const FigureOutcome figures = WriteReportFigures(report.path(), report.ForUser(report.path()));
     report.Commit();
     std::printf("\nreport written to %s/ (report.md, report.json, errors.csv, trajectories)\n",
                 args->report.c_str());

@@ -164,9 +164,11 @@ EvaluationProtocol ProtocolFromArgs(const Args& a) {
   return p;
 }
 
-void PrintRowFixes(const TrajectoryReadReport& report) {
+// The readers' notes on rows they fixed (dropped repeated stamps, sorted rows, ...), printed only
+// once the evaluation succeeded: a command that then fails prints its one error line alone.
+void AddRowFixes(const TrajectoryReadReport& report, std::vector<std::string>* notes) {
   const std::string fixes = DescribeRowFixes(report);
-  if (!fixes.empty()) std::fprintf(stderr, "mavloc: note: %s\n", fixes.c_str());
+  if (!fixes.empty()) notes->push_back(fixes);
 }
 
 std::vector<StampedPose> AlignedEstimate(const std::vector<StampedPose>& estimate,
@@ -186,7 +188,8 @@ std::vector<StampedPose> AlignedEstimate(const std::vector<StampedPose>& estimat
 
 std::string Seconds(TimeNs t_ns) { return fmt::format("{:.3f}", NsToSeconds(t_ns)); }
 
-// Evaluates one run; throws InputError naming the estimate file when nothing can be computed.
+// Evaluates one run; throws InputError naming the estimate file when nothing can be computed (the
+// ground truth was checked to have two poses), with the rows its reader dropped, if any.
 EvalRun EvaluateRun(const std::string& file, const LoadedTrajectory& estimate,
                     const LoadedTrajectory& truth, const EvaluationProtocol& protocol,
                     const std::string& truth_path) {
@@ -229,7 +232,9 @@ EvalRun EvaluateRun(const std::string& file, const LoadedTrajectory& estimate,
                       "{:g} s)",
                       truth_path, p.max_dt_s, Seconds(est.front().t_ns), Seconds(est.back().t_ns),
                       Seconds(gt.front().t_ns), Seconds(gt.back().t_ns), p.time_offset_s));
-    throw InputError(file, 0, "", "cannot evaluate: " + why);
+    const std::string fixes = DescribeRowFixes(estimate.report);
+    throw InputError(file, 0, "",
+                     "cannot evaluate: " + why + (fixes.empty() ? "" : " (note: " + fixes + ")"));
   }
   run.evaluation = std::move(*evaluation);
   run.aligned_estimate = AlignedEstimate(est, run.evaluation, p.time_offset_s);
@@ -250,7 +255,13 @@ void Run(const Args& a) {
   truth_options.sort = a.sort;
   truth_options.times_path = a.gt_times;
   const LoadedTrajectory truth = ReadTrajectory(a.gt, truth_options);
-  PrintRowFixes(truth.report);
+  std::vector<std::string> notes;  // printed once everything is evaluated
+  AddRowFixes(truth.report, &notes);
+  if (truth.states.size() < 2)
+    throw InputError(a.gt, 0, "",
+                     fmt::format("the ground truth has {} pose{}: a trajectory evaluation needs at "
+                                 "least 2",
+                                 truth.states.size(), truth.states.size() == 1 ? "" : "s"));
 
   // Read every input before evaluating anything: a bad file stops the command before any output.
   struct Input {
@@ -281,7 +292,7 @@ void Run(const Args& a) {
         input.is_folder ? RunFiles(input.source) : std::vector<std::string>{input.source};
     for (const auto& file : files) {
       LoadedTrajectory loaded = ReadTrajectory(file, options);
-      PrintRowFixes(loaded.report);
+      AddRowFixes(loaded.report, &notes);
       input.runs.emplace_back(file, std::move(loaded));
     }
     inputs.push_back(std::move(input));
@@ -307,6 +318,7 @@ void Run(const Args& a) {
     report.estimates.push_back(std::move(estimate));
   }
   report.protocol = protocol;
+  for (const std::string& note : notes) std::fprintf(stderr, "mavloc: note: %s\n", note.c_str());
 
   // evo-style statistics per run, then the table.
   for (const auto& e : report.estimates)
@@ -333,7 +345,7 @@ void Run(const Args& a) {
   if (out) {
     for (const auto& [name, contents] : EvalReportFiles(report))
       WriteFileAtomically((fs::path(out->path()) / name).string(), contents);
-    const FigureOutcome figures = WriteReportFigures(out->path());
+    const FigureOutcome figures = WriteReportFigures(out->path(), out->ForUser(out->path()));
     out->Commit();
     std::printf(
         "report: %s (eval.md, eval.tex, eval.json, truth.tum, estimates, "

@@ -20,6 +20,7 @@
 #include "datasets/io/log_reader.h"
 #include "datasets/io/rosbag/rosbag_reader.h"
 #include "datasets/io/tum_io.h"
+#include "datasets/io/ulog/ulog_reader.h"
 
 namespace mavloc::cli {
 
@@ -32,29 +33,36 @@ const char* FormatName(LogFormat format) {
 }
 
 void PrintSummary(const LogSummary& summary) {
-  std::printf("%s: %s, %.3f s (%.9f .. %.9f)\n", summary.path.c_str(), FormatName(summary.format),
+  // Names come from the log: control bytes and invalid UTF-8 are escaped (core/errors.h), so a
+  // topic holding terminal escape sequences cannot reach the terminal raw.
+  const std::string path = PrintableMessage(summary.path);
+  std::printf("%s: %s, %.3f s (%.9f .. %.9f)\n", path.c_str(), FormatName(summary.format),
               NsToSeconds(summary.t_end_ns - summary.t_start_ns), NsToSeconds(summary.t_start_ns),
               NsToSeconds(summary.t_end_ns));
+  std::vector<std::string> names, types;
   size_t topic_width = 5, type_width = 4;
   for (const auto& t : summary.topics) {
-    topic_width = std::max(topic_width, t.topic.size() + (t.instance > 0 ? 3 : 0));
-    type_width = std::max(type_width, t.type.size());
+    names.push_back(
+        PrintableMessage(t.instance > 0 ? fmt::format("{}:{}", t.topic, t.instance) : t.topic));
+    types.push_back(PrintableMessage(t.type));
+    topic_width = std::max(topic_width, names.back().size());
+    type_width = std::max(type_width, types.back().size());
   }
   std::printf("%-*s  %-*s  %10s  %10s  %12s  %12s\n", static_cast<int>(topic_width), "topic",
               static_cast<int>(type_width), "type", "messages", "rate [Hz]", "first [s]",
               "last [s]");
-  for (const auto& t : summary.topics) {
-    const std::string name = t.instance > 0 ? fmt::format("{}:{}", t.topic, t.instance) : t.topic;
+  for (size_t i = 0; i < summary.topics.size(); ++i) {
+    const auto& t = summary.topics[i];
     const double span_s = NsToSeconds(t.t_last_ns - t.t_first_ns);
     const std::string rate =
         t.messages > 1 && span_s > 0 ? fmt::format("{:.2f}", (t.messages - 1) / span_s) : "-";
     std::printf("%-*s  %-*s  %10llu  %10s  %12.3f  %12.3f\n", static_cast<int>(topic_width),
-                name.c_str(), static_cast<int>(type_width), t.type.c_str(),
+                names[i].c_str(), static_cast<int>(type_width), types[i].c_str(),
                 static_cast<unsigned long long>(t.messages), rate.c_str(),
                 NsToSeconds(t.t_first_ns - summary.t_start_ns),
                 NsToSeconds(t.t_last_ns - summary.t_start_ns));
   }
-  for (const auto& note : summary.notes) std::printf("note: %s\n", note.c_str());
+  for (const auto& note : summary.notes) std::printf("note: %s\n", PrintableMessage(note).c_str());
 }
 
 nlohmann::json SummaryJson(const LogSummary& summary) {
@@ -93,6 +101,62 @@ std::pair<std::string, int> TopicCamera(const std::string& item, const std::stri
   return {item.substr(0, eq), camera[3] - '0'};
 }
 
+// A progress line on stderr about every 64 MiB of a ULog file.
+UlogProgress UlogProgressLine(const std::string& path) {
+  return [path](uint64_t bytes_done, uint64_t bytes_total) {
+    ReportProgress(
+        "ulog", fmt::format("{}: {:.0f} of {:.0f} MB", path, bytes_done / 1e6, bytes_total / 1e6));
+  };
+}
+
+// Appends each of `reader_notes` not yet in `notes` as "note: ..." (two topics of one log give
+// the same scan notes once).
+void AddReaderNotes(const std::vector<std::string>& reader_notes, std::vector<std::string>* notes) {
+  for (const std::string& note : reader_notes) {
+    const std::string line = "note: " + note;
+    if (std::find(notes->begin(), notes->end(), line) == notes->end()) notes->push_back(line);
+  }
+}
+
+// A log's IMU topic. The ULog reader drops what PX4 marks invalid and stamps that do not increase,
+// and its scan notes truncation and corrupt messages: those notes are added to `notes` (a bag's
+// reader refuses instead of dropping).
+std::vector<ImuSample> ReadImuTopic(const std::string& log, LogFormat format,
+                                    const std::string& topic, std::vector<std::string>* notes) {
+  if (format == LogFormat::kRosbag) return ReadLogImu(log, topic);
+  // "vehicle_imu:1" (the LOG:TOPIC:INSTANCE form) is the ULog reader's "vehicle_imu.1".
+  std::string ulog_topic = topic;
+  if (const size_t colon = ulog_topic.rfind(':'); colon != std::string::npos)
+    ulog_topic[colon] = '.';
+  std::vector<std::string> reader_notes;
+  std::vector<ImuSample> samples =
+      ReadUlogImu(log, ulog_topic, UlogProgressLine(log), &reader_notes);
+  AddReaderNotes(reader_notes, notes);
+  return samples;
+}
+
+// A log's trajectory topic, with the ULog reader's notes added to `notes` as for ReadImuTopic.
+LogTrajectory ReadTrajectoryTopic(const LogTopicSpec& spec, std::vector<std::string>* notes) {
+  if (DetectLogFormat(spec.path) != LogFormat::kUlog) return ReadLogTrajectory(spec);
+  // The ULog reader names later instances of a multi-instance topic "name.N".
+  LogTopicSpec ulog = spec;
+  if (spec.instance > 0) ulog.topic += "." + std::to_string(spec.instance);
+  std::vector<std::string> reader_notes;
+  LogTrajectory trajectory = ReadUlogTrajectory(ulog, UlogProgressLine(spec.path), &reader_notes);
+  AddReaderNotes(reader_notes, notes);
+  return trajectory;
+}
+
+// import.yaml's list items: double-quoted YAML scalars.
+std::string YamlQuoted(const std::string& text) {
+  std::string quoted = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') quoted += '\\';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
 struct ImportArgs {
   std::string log, out, imu, gt, imu_noise;
   std::vector<std::string> tags, camera_info, images, calibration;
@@ -112,9 +176,10 @@ void ImportLog(const ImportArgs& args) {
   dataset.name = fs::path(args.log).stem().string();
   std::vector<std::string> notes;
   notes.push_back("source: " + fs::absolute(args.log).string() + " (" + FormatName(*format) + ")");
+  std::vector<std::string> reader_notes;  // what the readers dropped, truncation, corrupt data
   if (!args.imu.empty()) {
     ReportProgress("log import", "reading IMU topic " + args.imu);
-    dataset.imu.samples = ReadLogImu(args.log, args.imu);
+    dataset.imu.samples = ReadImuTopic(args.log, *format, args.imu, &reader_notes);
     std::vector<TimeNs> t;
     for (const auto& s : dataset.imu.samples) t.push_back(s.t_ns);
     dataset.imu.rate_hz = MedianRateHz(t);
@@ -134,7 +199,7 @@ void ImportLog(const ImportArgs& args) {
   }
   if (!args.gt.empty()) {
     ReportProgress("log import", "reading trajectory topic " + args.gt);
-    const LogTrajectory trajectory = ReadLogTrajectory(TopicOf(args.log, args.gt));
+    const LogTrajectory trajectory = ReadTrajectoryTopic(TopicOf(args.log, args.gt), &reader_notes);
     if (!trajectory.has_position || !trajectory.has_attitude)
       throw InputError(args.log, 0, args.gt,
                        std::string("carries no ") +
@@ -211,8 +276,9 @@ void ImportLog(const ImportArgs& args) {
                            "=FILE or --camera-info TOPIC=cam" + std::to_string(index));
     dataset.cameras.push_back(c);
   }
+  notes.insert(notes.end(), reader_notes.begin(), reader_notes.end());
   std::string import_yaml = "# written by mavloc log import\n";
-  for (const auto& note : notes) import_yaml += "- \"" + note + "\"\n";
+  for (const auto& note : notes) import_yaml += "- " + YamlQuoted(note) + "\n";
   ReportProgress("log import", "writing " + args.out);
   // Its staging folder is removed if the command is interrupted (core/interrupt.h).
   const TemporaryPathGuard staging(StagingPathFor(args.out));
@@ -252,7 +318,8 @@ void RegisterLog(CLI::App& app, int* exit_code) {
     if (!spec)
       throw InputError(export_args->first, 0, "",
                        "expected LOG:TOPIC with LOG an existing ROS1 bag or PX4 ULog file");
-    const LogTrajectory trajectory = ReadLogTrajectory(*spec);
+    std::vector<std::string> notes;  // what the ULog reader dropped, truncation, corrupt data
+    const LogTrajectory trajectory = ReadTrajectoryTopic(*spec, &notes);
     std::vector<StampedPose> poses;
     for (const auto& s : trajectory.states) poses.push_back({s.t_ns, s.T_W_B});
     WriteTumTrajectory(poses, export_args->second);
@@ -260,6 +327,7 @@ void RegisterLog(CLI::App& app, int* exit_code) {
                 trajectory.type.c_str(), trajectory.has_position ? "" : ", no position: p = 0",
                 trajectory.has_attitude ? "" : ", no attitude: identity",
                 export_args->second.c_str());
+    for (const auto& note : notes) std::printf("%s\n", note.c_str());
     *exit_code = 0;
   });
 

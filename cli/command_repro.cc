@@ -64,7 +64,7 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
     StagedFolder report(args->report, FolderKind::kReport);
     options.report_dir = report.path();
     *exit_code = entry->run(options);
-    const FigureOutcome figures = WriteReportFigures(report.path());
+    const FigureOutcome figures = WriteReportFigures(report.path(), report.ForUser(report.path()));
     report.Commit();
     std::printf("report written to %s/\n%s\n", args->report.c_str(),
                 report.ForUser(DescribeFigureOutcome(figures)).c_str());

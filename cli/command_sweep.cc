@@ -13,10 +13,12 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "cli/output_folder.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/key_values.h"
@@ -176,7 +178,13 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
       options.partition = args->partition;
       options.account = args->account;
       options.setup_lines = args->setup;
+      CheckSlurmOptions(options);  // before the folder is touched
+      // The results folder is written whole (cli/output_folder.h): a new or empty folder, or the
+      // results folder of an earlier --slurm (its report.md marks it), never another folder.
+      StagedFolder results(args->out, FolderKind::kReport);
+      options.write_dir = results.path();
       const SlurmFiles files = WriteSlurmFiles(grid, options);
+      results.Commit();
       std::printf("sweep: %zu units in %d shards; wrote %s and %s\n", units, options.shards,
                   files.array_script.c_str(), files.merge_script.c_str());
       if (args->dry_run) {
@@ -204,6 +212,9 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
     } else {
       for (size_t k = 0; k < units; ++k) indices.push_back(k);
     }
+    // The report folder is checked before any unit runs and written whole (cli/output_folder.h).
+    std::optional<StagedFolder> report;
+    if (args->shard.empty()) report.emplace(args->out, FolderKind::kReport);
     const std::vector<nlohmann::json> results =
         RunSweepUnits(grid, indices, RunOptions(args->jobs));
     if (!args->shard.empty()) {
@@ -211,7 +222,8 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
       std::printf("sweep: shard %d/%d (%zu of %zu units) written to %s\n", spec.shard, spec.shards,
                   indices.size(), units, path.c_str());
     } else {
-      WriteSweepReport(args->out, BuildSweepReport(grid, SweepFingerprint(grid), results));
+      WriteSweepReport(report->path(), BuildSweepReport(grid, SweepFingerprint(grid), results));
+      report->Commit();
       std::printf("sweep: %zu units; report written to %s/ (report.md, report.json, runs.csv)\n",
                   units, args->out.c_str());
     }
@@ -227,8 +239,11 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
       ->required();
   merge->add_option("--out", *merge_out, "Report folder (created)")->required();
   merge->callback([merge_inputs, merge_out, exit_code] {
+    StagedFolder report(*merge_out, FolderKind::kReport);  // checked first, written whole
     const MergedSweep merged = MergePartials(*merge_inputs);
-    WriteSweepReport(*merge_out, BuildSweepReport(merged.grid, merged.fingerprint, merged.units));
+    WriteSweepReport(report.path(),
+                     BuildSweepReport(merged.grid, merged.fingerprint, merged.units));
+    report.Commit();
     std::printf(
         "sweep-merge: %zu units; report written to %s/ (report.md, report.json, runs.csv)\n",
         merged.units.size(), merge_out->c_str());

@@ -40,8 +40,18 @@ inline constexpr double kMaxDistortionCoefficient = 1000.0;
 
 // Sensor rates: 1 MHz is above any IMU or camera.
 inline constexpr double kMaxRate_hz = 1e6;
+// Output rate of an estimator's trajectory (option rate_hz): 1 kHz is above the IMU rate of MAV
+// logs, and an hour at 1 kHz is 3.6e6 poses (~0.5 GB); more only fills memory.
+inline constexpr double kMaxEstimateRate_hz = 1000.0;
 // Timestamps: 2^62 ns (year 2116) leaves room for differences and sums without int64 overflow.
 inline constexpr TimeNs kMaxTimestampNs = TimeNs{1} << 62;
+
+// Angular measurement noise (bearings, laser-spot angles) stated by a simulated dataset: a sigma
+// above 180 deg is no measurement of a direction.
+inline constexpr double kMaxAngleNoise_deg = 180.0;
+// Delay between a camera exposure and its processed measurement (scenario.yaml
+// processing_delay_s): tens of ms on a MAV; a minute is beyond any on-board pipeline.
+inline constexpr double kMaxProcessingDelay_s = 60.0;
 
 // Extra ground-truth quantities (truth_quantities0: distances in m, speeds in m/s, angles in rad,
 // biases): the position bound is above all of them.

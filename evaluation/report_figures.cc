@@ -145,13 +145,13 @@ std::vector<std::string> DataFiles(const std::string& report_dir,
 }
 
 // Draws the figures into `outcome` (figures, reason, how_to_get_figures).
-void DrawFigures(const std::string& report_dir, FigureOutcome* outcome,
-                 std::vector<HtmlFigure>* html_figures) {
+// The texts name `shown_dir`, the folder the user will find the report in.
+void DrawFigures(const std::string& report_dir, const std::string& shown_dir,
+                 FigureOutcome* outcome, std::vector<HtmlFigure>* html_figures) {
   const char* switch_env = std::getenv("MAVLOC_FIGURES");
   if (switch_env && (std::string(switch_env) == "0" || std::string(switch_env) == "off")) {
     outcome->reason = "figures switched off (MAVLOC_FIGURES=" + std::string(switch_env) + ")";
-    outcome->how_to_get_figures =
-        "unset MAVLOC_FIGURES and run `mavloc figures " + report_dir + "`";
+    outcome->how_to_get_figures = "unset MAVLOC_FIGURES and run `mavloc figures " + shown_dir + "`";
     return;
   }
   if (outcome->kind == ReportKind::kUnknown) {
@@ -161,7 +161,7 @@ void DrawFigures(const std::string& report_dir, FigureOutcome* outcome,
   const std::string python = PythonPath();
   if (::access(python.c_str(), X_OK) != 0) {
     outcome->reason = "no Python interpreter at " + python;
-    outcome->how_to_get_figures = HowToGetFigures(report_dir);
+    outcome->how_to_get_figures = HowToGetFigures(shown_dir);
     return;
   }
   const ScriptRun run = RunScript(python, report_dir, ReportKindName(outcome->kind));
@@ -180,10 +180,10 @@ void DrawFigures(const std::string& report_dir, FigureOutcome* outcome,
   if (run.exit_code == kMissingModuleExit) {
     outcome->reason =
         "matplotlib is not available to " + python + " (" + LastLines(run.err, 1) + ")";
-    outcome->how_to_get_figures = HowToGetFigures(report_dir);
+    outcome->how_to_get_figures = HowToGetFigures(shown_dir);
   } else if (run.exit_code == 126 || run.exit_code == 127) {
     outcome->reason = python + " cannot be run: " + LastLines(run.err, 1);
-    outcome->how_to_get_figures = HowToGetFigures(report_dir);
+    outcome->how_to_get_figures = HowToGetFigures(shown_dir);
   } else if (run.exit_code != 0) {
     outcome->reason = "the plotting script failed (exit code " + std::to_string(run.exit_code) +
                       "): " + LastLines(run.err, 3);
@@ -217,7 +217,8 @@ ReportKind DetectReportKind(const std::string& report_dir) {
   return ReportKind::kUnknown;
 }
 
-FigureOutcome WriteReportFigures(const std::string& report_dir) {
+FigureOutcome WriteReportFigures(const std::string& report_dir, const std::string& shown_dir) {
+  const std::string& shown = shown_dir.empty() ? report_dir : shown_dir;
   FigureOutcome outcome;
   std::error_code error;
   if (!fs::is_directory(report_dir, error)) {
@@ -227,7 +228,7 @@ FigureOutcome WriteReportFigures(const std::string& report_dir) {
   outcome.kind = DetectReportKind(report_dir);
   std::vector<HtmlFigure> html_figures;
   try {
-    DrawFigures(report_dir, &outcome, &html_figures);
+    DrawFigures(report_dir, shown, &outcome, &html_figures);
   } catch (const std::exception& e) {  // e.g. temporary folder or pipe failures
     outcome.reason = std::string("figures not drawn: ") + e.what();
   }
@@ -235,7 +236,7 @@ FigureOutcome WriteReportFigures(const std::string& report_dir) {
   const std::string markdown_path = (fs::path(report_dir) / MarkdownName(outcome.kind)).string();
   const std::string markdown = WithoutFiguresSection(ReadWholeFile(markdown_path));
   HtmlPage page;
-  page.title = TitleOf(markdown, report_dir);
+  page.title = TitleOf(markdown, shown);
   page.markdown = markdown;
   page.figures = std::move(html_figures);
   page.figures_note =

@@ -43,7 +43,10 @@ struct FigureOutcome {
 // it to a nonexistent path to exercise the fallback), else /usr/bin/python3; MAVLOC_FIGURES=0 (or
 // off) skips the figures. The Markdown report (eval.md or report.md) gets a "Figures" section
 // (listing them, or saying how to get them), replaced on every call.
-FigureOutcome WriteReportFigures(const std::string& report_dir);
+// `shown_dir` is the folder the texts name ("then `mavloc figures DIR`", the fallback title): the
+// report's final folder when report_dir is a staging folder renamed into place afterwards
+// (cli/output_folder.h); empty means report_dir.
+FigureOutcome WriteReportFigures(const std::string& report_dir, const std::string& shown_dir = "");
 
 // One line for the terminal: "figures: a.png, b.png; report.html" or the reason and how to get
 // them.

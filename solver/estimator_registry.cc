@@ -1,8 +1,17 @@
 // The list of estimators known to mavloc, in the order reports show them. Adding an estimator is
 // one entry here.
+#include <fmt/format.h>
+
+#include <cmath>
 #include <initializer_list>
+#include <limits>
+#include <map>
 #include <memory>
 #include <set>
+#include <string>
+
+#include "core/errors.h"
+#include "core/physical_limits.h"
 
 #include "solver/estimator.h"
 #include "solver/estimators/gravity_ekf_estimator.h"
@@ -23,6 +32,88 @@ namespace {
 
 // An entry whose create rejects undeclared options (CheckEstimatorOptions) before constructing,
 // and hands the declared keys to the getters (EstimatorOptions::DeclareFor).
+// Value ranges of the numeric estimator options (issue 17, "Bad options"): a key here is checked
+// for every estimator that declares it, before the estimator is constructed, so that rate_hz=0, a
+// negative noise density or loss_scale=-2 is refused with the option named instead of giving a
+// one-pose trajectory, an allocation failure or a silently different cost. Keys not listed are
+// text, booleans, or signed values (time offsets, delays) that the getters check for finiteness.
+struct OptionRange {
+  double lo, hi;
+  bool lo_open;  // (lo, hi] instead of [lo, hi]
+  const char* unit;
+};
+
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+
+const std::map<std::string, OptionRange>& OptionRanges() {
+  static const std::map<std::string, OptionRange> kRanges = {
+      // Rates and noise: core/physical_limits.h.
+      {"rate_hz", {0.0, limits::kMaxEstimateRate_hz, true, "Hz"}},
+      {"gyro_noise_density", {0.0, limits::kMaxGyroNoise, false, "rad/s/sqrt(Hz)"}},
+      {"accel_noise_density", {0.0, limits::kMaxAccelNoise, false, "m/s^2/sqrt(Hz)"}},
+      {"accel_dynamics_sigma", {0.0, limits::kMaxSpecificForce_m_s2, false, "m/s^2"}},
+      {"gyro_bias_sigma", {0.0, limits::kMaxGyroBias_rad_s, false, "rad/s"}},
+      {"gyro_bias_prior_deg_s", {0.0, limits::kMaxGyroBias_rad_s * 180.0 / M_PI, true, "deg/s"}},
+      {"accel_bias_prior_m_s2", {0.0, limits::kMaxAccelBias_m_s2, true, "m/s^2"}},
+      {"bearing_sigma_deg", {0.0, limits::kMaxAngleNoise_deg, false, "deg"}},
+      {"laser_sigma_deg", {0.0, limits::kMaxAngleNoise_deg, false, "deg"}},
+      {"pixel_sigma_px", {0.0, limits::kMaxPixelCoordinate, false, "px"}},
+      {"threshold_px", {0.0, limits::kMaxPixelCoordinate, true, "px"}},
+      {"D", {0.0, limits::kMaxPosition_m, false, "m"}},
+      // Sigmas, variances, random walks, gates, windows: >= 0 (0 = off where the estimator says).
+      {"loss_scale", {0.0, kUnbounded, true, ""}},
+      {"gz_random_walk", {0.0, kUnbounded, false, ""}},
+      {"v_o_random_walk", {0.0, kUnbounded, false, ""}},
+      {"normal_random_walk", {0.0, kUnbounded, false, ""}},
+      {"gate_sigmas", {0.0, kUnbounded, false, ""}},
+      {"gate_chi2", {0.0, kUnbounded, false, ""}},
+      {"position_sigma_m", {0.0, kUnbounded, false, "m"}},
+      {"yaw_sigma_deg", {0.0, kUnbounded, false, "deg"}},
+      {"position_accel_density", {0.0, kUnbounded, false, "m^2/s^3"}},
+      {"yaw_accel_density", {0.0, kUnbounded, false, "rad^2/s^3"}},
+      {"coast_limit_s", {0.0, kUnbounded, false, "s"}},
+      {"attitude_check_deg", {0.0, kUnbounded, false, "deg"}},
+      {"attitude_error_deg", {0.0, kUnbounded, false, "deg"}},
+      {"attitude_error_tau_s", {0.0, kUnbounded, true, "s"}},
+      {"max_correction_deg", {0.0, kUnbounded, false, "deg"}},
+      {"min_inlier_ratio", {0.0, 1.0, false, ""}},
+      {"gravity_init_s", {0.0, kUnbounded, true, "s"}},
+      // Counts and seeds.
+      {"threads", {1.0, 256.0, false, ""}},
+      {"max_iterations", {1.0, 1e6, false, ""}},
+      {"keyframe_stride", {1.0, kUnbounded, false, ""}},
+      {"relinearize", {0.0, 100.0, false, ""}},
+      {"min_inliers", {0.0, kUnbounded, false, ""}},
+      {"min_filter_updates", {0.0, kUnbounded, false, ""}},
+      {"gravity_min_tags", {1.0, kUnbounded, false, ""}},
+      {"init_seed", {0.0, kUnbounded, false, ""}},
+      {"attitude_error_seed", {0.0, kUnbounded, false, ""}},
+  };
+  return kRanges;
+}
+
+std::string RangeDescription(const OptionRange& range) {
+  std::string text = fmt::format("{}{:g}, ", range.lo_open ? "(" : "[", range.lo);
+  text += std::isinf(range.hi) ? std::string("inf)") : fmt::format("{:g}]", range.hi);
+  if (*range.unit) text += std::string(" ") + range.unit;
+  return text;
+}
+
+// Throws InputError "--option KEY=VALUE: 'VALUE' is outside RANGE (estimator NAME)" for the first
+// given option of a declared key whose value is out of its range (OptionRanges).
+void CheckOptionRanges(const EstimatorEntry& entry, const EstimatorOptions& given) {
+  for (const auto& [key, text] : given.values()) {
+    const auto range = OptionRanges().find(key);
+    if (range == OptionRanges().end() || !entry.options.count(key)) continue;
+    const double value = given.GetDouble(key, 0.0);  // throws for text, nan, inf
+    const OptionRange& r = range->second;
+    const bool above_lo = r.lo_open ? value > r.lo : value >= r.lo;
+    if (!above_lo || !(value <= r.hi))
+      throw InputError(fmt::format("--option {}={}: '{}' is outside {} (estimator {})", key, text,
+                                   text, RangeDescription(r), entry.name));
+  }
+}
+
 template <typename T>
 EstimatorEntry Entry(std::string name, std::string description, std::set<std::string> options,
                      std::vector<std::string> prefixes = {}) {
@@ -32,6 +123,7 @@ EstimatorEntry Entry(std::string name, std::string description, std::set<std::st
                       entry.name](const EstimatorOptions& given) -> std::unique_ptr<Estimator> {
     const EstimatorEntry* self = FindEstimator(entry_name);
     CheckEstimatorOptions(*self, given);
+    CheckOptionRanges(*self, given);
     EstimatorOptions declared = given;
     declared.DeclareFor(self);
     return std::make_unique<T>(declared);

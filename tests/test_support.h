@@ -28,6 +28,10 @@ bool HasSharedData();
 std::string CliPath();
 // A fresh, empty folder under the system temp dir, unique to the running test.
 std::string MakeTempDir();
+// A file's bytes (empty when it cannot be read), and (over)writing a file with the given bytes: the
+// bad-input suites read real files, mutate them and write the copies.
+std::string ReadFileBytes(const std::string& path);
+void WriteFileBytes(const std::string& path, const std::string& bytes);
 
 struct CommandResult {
   int exit_code = -1;

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "core/errors.h"
+#include "core/physical_limits.h"
 
 namespace fs = std::filesystem;
 
@@ -206,6 +207,11 @@ TimeNs StemTimestamp(const fs::path& path) {
   if (!t)
     throw InputError(path.string(), 0, "",
                      "file name '" + stem + "' is not a timestamp in nanoseconds");
+  // The file name is the frame's ts (each row's ts must equal it): the range of every timestamp.
+  if (*t > limits::kMaxTimestampNs)
+    throw InputError(path.string(), 0, kColumns[kTs],
+                     fmt::format("the file name's timestamp {} ns is beyond {} ns (year 2116)",
+                                 stem, limits::kMaxTimestampNs));
   return *t;
 }
 
@@ -218,7 +224,8 @@ AprilgridCornerFrame ReadAprilgridCornerFile(const std::string& path, const Apri
   if (!in) throw InputError(path, 0, "", fs::exists(path) ? "cannot open file" : "does not exist");
   std::ostringstream buffer;
   buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  std::string text = buffer.str();
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // UTF-8 BOM, as text_table.cc
   FileParser parser(path, target, options, t_ns);
   long line_number = 0;
   bool header_seen = false;

@@ -1,8 +1,12 @@
 #include "datasets/io/aprilgrid_target_io.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
 
 #include "core/errors.h"
+#include "core/physical_limits.h"
 #include "datasets/io/yaml_util.h"
 
 namespace mavloc {
@@ -53,6 +57,22 @@ AprilgridTarget ParseTarget(const YAML::Node& node, const std::string& path) {
   target.tag_cols = PositiveCount(node, "tag_cols", "tagCols", path);
   target.tag_size_m = Number(node, "tag_size", "tagSize", path);
   target.tag_spacing = Number(node, "tag_spacing", "tagSpacing", path);
+  // The upper bounds here, with the line of the value: the corner files are checked against the
+  // target, so a target left unchecked is blamed on the first corner file instead.
+  std::string used;
+  const YAML::Node size = Key(node, "tag_size", "tagSize", &used);
+  if (target.tag_size_m > limits::kMaxTagSize_m)
+    throw InputError(
+        path, YamlLine(size), used,
+        fmt::format("tag_size must be a positive length in metres: {:g} is outside {}",
+                    target.tag_size_m, limits::RangeText(0.0, limits::kMaxTagSize_m, "m")));
+  const YAML::Node spacing = Key(node, "tag_spacing", "tagSpacing", &used);
+  const double extent_m = std::max(target.tag_rows, target.tag_cols) * target.tag_size_m *
+                          (1.0 + std::abs(target.tag_spacing));
+  if (target.tag_size_m > 0.0 && !(extent_m <= limits::kMaxPosition_m))
+    throw InputError(path, YamlLine(spacing), used,
+                     fmt::format("{:g} makes the grid {:g} m wide, beyond {}", target.tag_spacing,
+                                 extent_m, limits::RangeText(0.0, limits::kMaxPosition_m, "m")));
   const std::string why = target.Validate();
   if (!why.empty()) throw InputError(path, node.Mark().line + 1, "", "invalid aprilgrid: " + why);
   return target;

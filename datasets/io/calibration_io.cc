@@ -7,6 +7,7 @@
 #include <regex>
 
 #include "core/errors.h"
+#include "core/physical_limits.h"
 #include "datasets/io/aprilgrid_target_io.h"
 #include "datasets/io/yaml_util.h"
 
@@ -38,7 +39,7 @@ CameraModel MakeModel(const YAML::Node& node, const std::string& path, const std
                       const std::string& coefficients_key, const std::string& camera_model_key) {
   const auto resolution = YamlDoubles(node, "resolution", path, 2);
   for (double r : resolution) {
-    if (r != std::floor(r) || r < 1 || r > 100000)
+    if (r != std::floor(r) || r < 1 || r > limits::kMaxResolution_px)
       throw InputError(path, Line(node["resolution"]), prefix + "resolution",
                        "must be two positive pixel counts");
   }
@@ -49,9 +50,7 @@ CameraModel MakeModel(const YAML::Node& node, const std::string& path, const std
                        "'" + projection + "' is not supported (only pinhole)");
   }
   const auto k = YamlDoubles(node, intrinsics_key, path, 4);
-  if (!(k[0] > 0 && k[1] > 0))
-    throw InputError(path, Line(node[intrinsics_key]), prefix + intrinsics_key,
-                     "focal lengths must be positive");
+  CheckIntrinsicsRange(node, intrinsics_key, prefix + intrinsics_key, path, k);
   DistortionModel model = DistortionModel::kNone;
   std::array<double, 4> coefficients{0, 0, 0, 0};
   if (node[distortion_model_key]) {
@@ -67,6 +66,7 @@ CameraModel MakeModel(const YAML::Node& node, const std::string& path, const std
     model = *parsed;
     if (model != DistortionModel::kNone) {
       const auto d = YamlDoubles(node, coefficients_key, path, 4);
+      CheckDistortionRange(node, coefficients_key, prefix + coefficients_key, path, d);
       std::copy_n(d.begin(), 4, coefficients.begin());
     }
   }
@@ -84,7 +84,9 @@ CameraCalibration EurocCamera(const YAML::Node& yaml, const std::string& path) {
     camera.T_B_C = YamlRigidTransform(yaml, "T_BS", path);
     camera.T_B_C_from = path + " (T_BS)";
   }
-  if (yaml["rate_hz"]) camera.rate_hz = YamlDouble(yaml, "rate_hz", path);
+  // 0 means "not stated", as in euroc_io.cc (mavloc writes it for logs of unknown rate).
+  if (yaml["rate_hz"])
+    camera.rate_hz = YamlDoubleIn(yaml, "rate_hz", path, 0.0, limits::kMaxRate_hz, "Hz");
   return camera;
 }
 
@@ -104,18 +106,21 @@ std::optional<ImuCalibration> ImuNoiseKeys(const YAML::Node& node, const std::st
         Names{"sigma_g_c", "sigma_gw_c", "sigma_a_c", "sigma_aw_c", "rate"}}) {
     if (!node[names.gyro_white] && !node[names.accel_white]) continue;
     ImuCalibration imu;
-    auto density = [&](const char* key) {
-      const double x = YamlDouble(node, key, path);
+    auto density = [&](const char* key, double max, const char* unit) {
+      const double x = YamlDoubleIn(node, key, path, 0.0, max, unit);
       if (!(x > 0)) throw InputError(path, Line(node[key]), key, "must be a positive density");
       return x;
     };
-    imu.noise.gyroscope_noise_density = density(names.gyro_white);
-    imu.noise.gyroscope_random_walk = density(names.gyro_walk);
-    imu.noise.accelerometer_noise_density = density(names.accel_white);
-    imu.noise.accelerometer_random_walk = density(names.accel_walk);
+    using limits::kMaxAccelNoise, limits::kMaxGyroNoise;
+    imu.noise.gyroscope_noise_density = density(names.gyro_white, kMaxGyroNoise, "rad/s/sqrt(Hz)");
+    imu.noise.gyroscope_random_walk = density(names.gyro_walk, kMaxGyroNoise, "rad/s^2/sqrt(Hz)");
+    imu.noise.accelerometer_noise_density =
+        density(names.accel_white, kMaxAccelNoise, "m/s^2/sqrt(Hz)");
+    imu.noise.accelerometer_random_walk =
+        density(names.accel_walk, kMaxAccelNoise, "m/s^3/sqrt(Hz)");
     for (const char* rate : {names.rate, "rate_hz"}) {
       if (node[rate]) {
-        imu.rate_hz = YamlDouble(node, rate, path);
+        imu.rate_hz = YamlDoubleIn(node, rate, path, 0.0, limits::kMaxRate_hz, "Hz");
         if (!(*imu.rate_hz > 0))
           throw InputError(path, Line(node[rate]), rate, "must be a positive rate in Hz");
         break;
@@ -246,7 +251,41 @@ CalibrationSource ReadFolderSource(const fs::path& folder) {
   return source;
 }
 
+// Line of item i of the list `key` (its own line in a block list), else of the list.
+long CalibrationItemLine(const YAML::Node& node, const std::string& key, size_t i) {
+  const YAML::Node list = node[key];
+  if (list && list.IsSequence() && i < list.size() && list[i]) return YamlLine(list[i]);
+  return YamlLine(list);
+}
+
 }  // namespace
+
+void CheckIntrinsicsRange(const YAML::Node& node, const std::string& key, const std::string& field,
+                          const std::string& path, const std::vector<double>& intrinsics) {
+  static const char* const kNames[] = {"fu", "fv", "cu", "cv"};
+  for (size_t i = 0; i < intrinsics.size() && i < 4; ++i) {
+    const bool focal = i < 2;
+    const double lo = focal ? 0.0 : -limits::kMaxPixelCoordinate;
+    const double hi = focal ? limits::kMaxFocalLength_px : limits::kMaxPixelCoordinate;
+    const double x = intrinsics[i];
+    if (!(x <= hi && (focal ? x > lo : x >= lo)))
+      throw InputError(
+          path, CalibrationItemLine(node, key, i), field,
+          fmt::format("{} = {:g} is outside {}{}", kNames[i], x, limits::RangeText(lo, hi, "px"),
+                      focal ? " (a focal length must be > 0)" : ""));
+  }
+}
+
+void CheckDistortionRange(const YAML::Node& node, const std::string& key, const std::string& field,
+                          const std::string& path, const std::vector<double>& coefficients) {
+  const double max = limits::kMaxDistortionCoefficient;
+  for (size_t i = 0; i < coefficients.size(); ++i) {
+    if (!(std::abs(coefficients[i]) <= max))
+      throw InputError(path, CalibrationItemLine(node, key, i), field,
+                       fmt::format("coefficient {} = {:g} is outside {}", i + 1, coefficients[i],
+                                   limits::RangeText(-max, max, "")));
+  }
+}
 
 std::pair<std::optional<int>, std::string> SplitCameraPrefix(const std::string& spec) {
   static const std::regex pattern("(cam[0-9]{1,2})=(.*)");

@@ -21,6 +21,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/aprilgrid.h"
 #include "core/camera_model.h"
@@ -52,6 +53,16 @@ struct CalibrationSource {
   std::map<int, CameraCalibration> cameras;  // camera index N of camN
   std::optional<ImuCalibration> imu;
 };
+
+// The sanity ranges of core/physical_limits.h for camera values read from YAML, shared by every
+// calibration reader (the ranges euroc_io.cc applies to sensor.yaml): intrinsics [fu fv cu cv]
+// with focal lengths in (0, kMaxFocalLength_px] and the principal point within
+// +-kMaxPixelCoordinate; every distortion coefficient within +-kMaxDistortionCoefficient. `key` is
+// the list's key in `node` (for the line), `field` its name in the message. Throw InputError.
+void CheckIntrinsicsRange(const YAML::Node& node, const std::string& key, const std::string& field,
+                          const std::string& path, const std::vector<double>& intrinsics);
+void CheckDistortionRange(const YAML::Node& node, const std::string& key, const std::string& field,
+                          const std::string& path, const std::vector<double>& coefficients);
 
 // "camN=PATH" -> {N, PATH}; a plain PATH -> {nullopt, PATH}.
 std::pair<std::optional<int>, std::string> SplitCameraPrefix(const std::string& spec);

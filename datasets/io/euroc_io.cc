@@ -5,6 +5,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 
@@ -13,6 +16,7 @@
 #include "core/interrupt.h"
 #include "core/physical_limits.h"
 #include "core/rotation.h"
+#include "datasets/io/calibration_io.h"
 #include "datasets/io/text_table.h"
 #include "datasets/io/tum_io.h"
 #include "datasets/io/yaml_util.h"
@@ -99,19 +103,7 @@ CameraSensor ReadCamera(const fs::path& folder) {
   const int width_px = ResolutionPx(yaml, resolution[0], "width", yaml_path);
   const int height_px = ResolutionPx(yaml, resolution[1], "height", yaml_path);
   const auto intrinsics = YamlDoubles(yaml, "intrinsics", yaml_path, 4);
-  for (int i = 0; i < 4; ++i) {
-    const double lo = i < 2 ? 0.0 : -limits::kMaxPixelCoordinate;
-    const double hi = i < 2 ? limits::kMaxFocalLength_px : limits::kMaxPixelCoordinate;
-    if (!(intrinsics[i] > lo && intrinsics[i] <= hi))
-      throw InputError(yaml_path, YamlLine(yaml["intrinsics"]), "intrinsics",
-                       fmt::format("{} = {:g} is outside {}{}",
-                                   i == 0   ? "fu"
-                                   : i == 1 ? "fv"
-                                   : i == 2 ? "cu"
-                                            : "cv",
-                                   intrinsics[i], limits::RangeText(lo, hi, "px"),
-                                   i < 2 ? " (a focal length must be > 0)" : ""));
-  }
+  CheckIntrinsicsRange(yaml, "intrinsics", "intrinsics", yaml_path, intrinsics);
   if (yaml["camera_model"] && YamlString(yaml, "camera_model", yaml_path) != "pinhole")
     throw InputError(yaml_path, YamlLine(yaml["camera_model"]), "camera_model",
                      "only 'pinhole' is supported");
@@ -126,17 +118,16 @@ CameraSensor ReadCamera(const fs::path& folder) {
     model = *parsed;
     if (model != DistortionModel::kNone) {
       const auto k = YamlDoubles(yaml, "distortion_coefficients", yaml_path);
-      if (k.size() < 4)
-        throw InputError(yaml_path, YamlLine(yaml["distortion_coefficients"]),
-                         "distortion_coefficients", "expected 4 values");
-      for (double k_i : k) {
-        if (!(std::abs(k_i) <= limits::kMaxDistortionCoefficient))
-          throw InputError(yaml_path, YamlLine(yaml["distortion_coefficients"]),
-                           "distortion_coefficients",
-                           fmt::format("{:g} is outside {}", k_i,
-                                       limits::RangeText(-limits::kMaxDistortionCoefficient,
-                                                         limits::kMaxDistortionCoefficient, "")));
-      }
+      // Exactly 4: a fifth coefficient (k3 of OpenCV's 5-term radial-tangential model) has no
+      // place in the models mavloc supports, and dropping it would change the projection.
+      if (k.size() != 4)
+        throw InputError(
+            yaml_path, YamlLine(yaml["distortion_coefficients"]), "distortion_coefficients",
+            fmt::format("expected 4 values ({}), got {}",
+                        model == DistortionModel::kEquidistant ? "k1 k2 k3 k4" : "k1 k2 p1 p2",
+                        k.size()));
+      CheckDistortionRange(yaml, "distortion_coefficients", "distortion_coefficients", yaml_path,
+                           k);
       std::copy_n(k.begin(), 4, coefficients.begin());
     }
   }
@@ -247,9 +238,10 @@ std::vector<LaserObservation> ReadLaser(const std::string& path) {
   return out;
 }
 
-std::vector<TagObservation> ReadTags(const std::string& path, int camera) {
+std::vector<TagObservation> ReadTags(const std::string& path, int camera,
+                                     std::vector<long>* lines_out) {
   const TextTable table = ReadTextTable(path, Separator::kComma, true);
-  std::vector<long> lines;
+  std::vector<long>& lines = *lines_out;
   const auto t = Stamps(table, &lines);
   RequireNonDecreasing(table, t, lines);
   std::vector<TagObservation> out;
@@ -282,6 +274,9 @@ QuantityTable ReadTruthQuantities(const std::string& path) {
     const auto close = field.find(']');
     std::string name = field.substr(0, open);
     while (!name.empty() && name.back() == ' ') name.pop_back();
+    if (std::find(names.begin(), names.end(), name) != names.end())
+      throw InputError(path, 1, table.FieldName(k),
+                       "quantity '" + name + "' is named twice in the header");
     names.push_back(name);
     units.push_back(open != std::string::npos && close != std::string::npos
                         ? field.substr(open + 1, close - open - 1)
@@ -404,6 +399,38 @@ WorldMap ReadMap(const std::string& path) {
   return map;
 }
 
+// The scenario.yaml values an estimator reads as numbers (the smoother's measurement noise, the
+// tag EKF's processing delay), with their ranges: checked here, once, so that "-1", "lots" or
+// ".nan" is refused with the line instead of becoming a default or a clamp (issue 17, class 2).
+// A value is its leading number; words after it describe it ("1 per bearing angle (...)").
+struct ScenarioNumberField {
+  const char* key;
+  double lo, hi;
+  const char* unit;
+};
+constexpr ScenarioNumberField kScenarioNumberFields[] = {
+    {"pixel_noise_px", 0.0, limits::kMaxPixelCoordinate, "px"},
+    {"corner_noise_px", 0.0, limits::kMaxPixelCoordinate, "px"},
+    {"bearing_noise_deg", 0.0, limits::kMaxAngleNoise_deg, "deg"},
+    {"laser_noise_deg", 0.0, limits::kMaxAngleNoise_deg, "deg"},
+    {"processing_delay_s", 0.0, limits::kMaxProcessingDelay_s, "s"},
+};
+
+void CheckScenarioNumber(const YAML::Node& yaml, const ScenarioNumberField& field,
+                         const std::string& text, const std::string& path) {
+  const long line = YamlLine(yaml[field.key]);
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  const bool number = end != text.c_str() && (*end == '\0' || std::isspace(*end));
+  if (!number || !std::isfinite(value))
+    throw InputError(path, line, field.key,
+                     "'" + text + "' is not a finite number (an estimator reads it)");
+  if (!(value >= field.lo && value <= field.hi))
+    throw InputError(path, line, field.key,
+                     fmt::format("{:g} is outside {}", value,
+                                 limits::RangeText(field.lo, field.hi, field.unit)));
+}
+
 std::map<std::string, std::string> ReadScenarioInfo(const std::string& path) {
   std::map<std::string, std::string> info;
   const YAML::Node yaml = LoadYamlMap(path);
@@ -411,6 +438,9 @@ std::map<std::string, std::string> ReadScenarioInfo(const std::string& path) {
     const std::string key = YamlKey(item.first, path);
     info[key] = YamlString(yaml, key, path);
   }
+  for (const auto& field : kScenarioNumberFields)
+    if (const auto it = info.find(field.key); it != info.end())
+      CheckScenarioNumber(yaml, field, it->second, path);
   return info;
 }
 
@@ -438,6 +468,22 @@ void RequireFeaturesInMap(const Dataset& d, const std::string& features_path,
                       d.features[i].landmark_id, d.map.landmarks_W.size(),
                       d.map.landmarks_W.begin()->first, d.map.landmarks_W.rbegin()->first));
   }
+}
+
+// A tag stream none of whose detections names a tag of the map's tags (a map whose tags have other
+// ids than the detector's family and numbering) would leave every tag estimator without a pose and
+// without a word. Some unknown ids are normal in real logs (tags that were not surveyed): the
+// estimators count them ("tag not in map").
+void RequireTagsInMap(const Dataset& d, const std::vector<TagObservation>& tags,
+                      const std::string& tags_path, const std::vector<long>& lines) {
+  if (d.map.tags.empty() || tags.empty()) return;
+  for (const auto& obs : tags)
+    if (d.map.tags.count(obs.tag_id) != 0) return;
+  throw InputError(tags_path, lines.front(), "tag_id",
+                   fmt::format("none of the {} detections names a tag of map.yaml (first id {}; "
+                               "map: {} tags, ids {}..{})",
+                               tags.size(), tags.front().tag_id, d.map.tags.size(),
+                               d.map.tags.begin()->first, d.map.tags.rbegin()->first));
 }
 
 // ---- writing ----
@@ -632,15 +678,25 @@ Dataset ReadEurocDataset(const std::string& root, const EurocReadOptions& option
   d.name = fs::path(d.root).filename().string();
   const auto yaml_of = [](const fs::path& folder) { return (folder / "sensor.yaml").string(); };
   // No imu0 folder: a log without an IMU (e.g. TagSLAM's tag logs); IMU estimators say so.
+  if (fs::exists(mav0 / kImu) && !fs::is_directory(mav0 / kImu))
+    throw InputError((mav0 / kImu).string(), 0, "",
+                     "is not a folder (an IMU stream is a folder with data.csv and sensor.yaml)");
   if (fs::is_directory(mav0 / kImu))
     d.imu = NamingFile(yaml_of(mav0 / kImu), [&] { return ReadImu(mav0 / kImu); });
   if (options.load_cameras) {
     std::vector<fs::path> camera_folders;
     for (const auto& entry : fs::directory_iterator(mav0)) {
       const std::string name = entry.path().filename().string();
-      if (entry.is_directory() && name.rfind("cam", 0) == 0 &&
-          fs::exists(entry.path() / "sensor.yaml"))
+      if (!entry.is_directory() || name.rfind("cam", 0) != 0) continue;
+      if (fs::exists(entry.path() / "sensor.yaml")) {
         camera_folders.push_back(entry.path());
+      } else if (fs::exists(entry.path() / "data.csv")) {
+        // Frames without a calibration cannot be used by any estimator: say so, never skip them.
+        throw InputError((entry.path() / "sensor.yaml").string(), 0, "",
+                         "missing: " + name +
+                             "/ has data.csv but no sensor.yaml (the camera's "
+                             "intrinsics and T_BS)");
+      }
     }
     std::sort(camera_folders.begin(), camera_folders.end());
     for (const auto& folder : camera_folders)
@@ -651,13 +707,19 @@ Dataset ReadEurocDataset(const std::string& root, const EurocReadOptions& option
   std::vector<long> feature_lines;
   if (fs::exists(stream(kFeatures))) d.features = ReadFeatures(stream(kFeatures), &feature_lines);
   if (fs::exists(stream(kLaser))) d.laser = ReadLaser(stream(kLaser));
-  if (fs::exists(stream(kTags))) d.tags = ReadTags(stream(kTags), 0);
-  if (fs::exists(stream(kTags1))) d.tags1 = ReadTags(stream(kTags1), 1);
+  std::vector<long> tag_lines, tag1_lines;
+  if (fs::exists(stream(kTags))) d.tags = ReadTags(stream(kTags), 0, &tag_lines);
+  if (fs::exists(stream(kTags1))) d.tags1 = ReadTags(stream(kTags1), 1, &tag1_lines);
+  if (!d.tags1.empty() && options.load_cameras && d.Camera("cam1") == nullptr)
+    throw InputError(stream(kTags1), 0, "",
+                     "detections of cam1 (tags1), but there is no cam1/ folder with a sensor.yaml");
   if (fs::exists(stream(kTruthQuantities)))
     d.truth_quantities = ReadTruthQuantities(stream(kTruthQuantities));
   const std::string map_path = (fs::path(root) / "map.yaml").string();
   if (fs::exists(map_path)) d.map = NamingFile(map_path, [&] { return ReadMap(map_path); });
   RequireFeaturesInMap(d, stream(kFeatures), feature_lines);
+  RequireTagsInMap(d, d.tags, stream(kTags), tag_lines);
+  RequireTagsInMap(d, d.tags1, stream(kTags1), tag1_lines);
   const std::string scenario_path = (fs::path(root) / "scenario.yaml").string();
   if (fs::exists(scenario_path)) {
     d.scenario_info = NamingFile(scenario_path, [&] { return ReadScenarioInfo(scenario_path); });
@@ -719,8 +781,36 @@ void WriteEurocDatasetAtomically(const Dataset& d, const std::string& root,
   }
 }
 
+// The IMU header, when it names the columns, must name the gyroscope first (EuRoC: w_RS_S_x ..,
+// then a_RS_S_x ..): a file with the accelerometer first would otherwise be read as a gyroscope of
+// 9.81 rad/s. Names that say neither (a header of another tool) are not judged.
+void RequireImuColumnOrder(const TextTable& table) {
+  if (table.header.size() < 7) return;
+  const auto kind = [](std::string name) {
+    std::transform(name.begin(), name.end(), name.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const auto has = [&](const char* part) { return name.find(part) != std::string::npos; };
+    if (has("gyr") || has("omega") || has("angular")) return 'w';  // ROS: angular_velocity.x
+    if (has("acc") || has("linear")) return 'a';                   // ROS: linear_acceleration.x
+    if (name.rfind('w', 0) == 0) return 'w';                       // EuRoC w_RS_S_x, yac wx
+    if (name.rfind('a', 0) == 0) return 'a';                       // EuRoC a_RS_S_x, yac ax
+    return '?';
+  };
+  for (size_t k = 1; k <= 6; ++k) {
+    const char expected = k <= 3 ? 'w' : 'a';
+    const char found = kind(table.header[k]);
+    if (found != '?' && found != expected)
+      throw InputError(
+          table.path, 1, table.FieldName(k),
+          fmt::format("column {} must be the {} (EuRoC order: timestamp, w_RS_S_x/y/z "
+                      "[rad/s], a_RS_S_x/y/z [m/s^2]); the header names '{}'",
+                      k + 1, expected == 'w' ? "gyroscope" : "accelerometer", table.header[k]));
+  }
+}
+
 std::vector<ImuSample> ReadImuCsv(const std::string& path) {
   const TextTable table = ReadTextTable(path, Separator::kComma);
+  RequireImuColumnOrder(table);
   std::vector<long> lines;
   const std::vector<TimeNs> t = Stamps(table, &lines);
   table.RequireIncreasing(t, lines);
@@ -729,6 +819,11 @@ std::vector<ImuSample> ReadImuCsv(const std::string& path) {
   for (size_t i = 0; i < table.rows.size(); ++i) {
     const TextRow& row = table.rows[i];
     table.RequireFields(row, 7);
+    if (row.fields.size() > 7)
+      throw InputError(path, row.line, table.FieldName(7),
+                       fmt::format("row has {} fields; an IMU row has 7 (timestamp, gyroscope x y "
+                                   "z, accelerometer x y z)",
+                                   row.fields.size()));
     ImuSample s;
     s.t_ns = t[i];
     s.gyro_rad_s = Vector3In(table, row, 1, limits::kMaxAngularRate_rad_s, "rad/s");

@@ -30,12 +30,26 @@ std::vector<std::string> Split(const std::string& line, Separator separator) {
   return fields;
 }
 
-// The whole text as a base-10 integer that fits a long long.
-bool ParseWholeInteger(const std::string& text, long long* value) {
+enum class WholeInteger { kOk, kNotInteger, kTooLarge, kTooSmall };
+
+// The whole text as a base-10 integer that fits a long long; an integer beyond it is kTooLarge
+// (or kTooSmall when negative), so a message can say it is beyond the range rather than "not an
+// integer".
+WholeInteger ParseWholeInteger(const std::string& text, long long* value) {
   char* end = nullptr;
   errno = 0;
   *value = std::strtoll(text.c_str(), &end, 10);
-  return !text.empty() && end != text.c_str() && *end == '\0' && errno != ERANGE;
+  if (text.empty() || end == text.c_str() || *end != '\0') return WholeInteger::kNotInteger;
+  if (errno == ERANGE) return *value < 0 ? WholeInteger::kTooSmall : WholeInteger::kTooLarge;
+  return WholeInteger::kOk;
+}
+
+std::string TimestampBeyond(const std::string& text, const std::string& unit) {
+  const bool seconds = unit == "s";
+  return "timestamp " + text + " " + unit + " is beyond " +
+         std::to_string(seconds ? limits::kMaxTimestampNs / kNsPerSecond
+                                : limits::kMaxTimestampNs) +
+         " " + unit + " (limits::kMaxTimestampNs = 2^62 ns, year 2116)";
 }
 
 }  // namespace
@@ -80,9 +94,10 @@ int TextTable::Id(const TextRow& row, size_t k) const {
   RequireFields(row, k + 1);
   const std::string& text = row.fields[k];
   long long value = 0;
-  if (!ParseWholeInteger(text, &value))
+  const WholeInteger parsed = ParseWholeInteger(text, &value);
+  if (parsed == WholeInteger::kNotInteger)
     throw InputError(path, row.line, FieldName(k), "'" + text + "' is not an integer id");
-  if (value < 0 || value > limits::kMaxId)
+  if (parsed != WholeInteger::kOk || value < 0 || value > limits::kMaxId)
     throw InputError(path, row.line, FieldName(k),
                      "id " + text + " is outside [0, " + std::to_string(limits::kMaxId) + "]");
   return static_cast<int>(value);
@@ -92,14 +107,14 @@ TimeNs TextTable::TimestampNs(const TextRow& row, size_t k) const {
   RequireFields(row, k + 1);
   const std::string& text = row.fields[k];
   long long value = 0;
-  if (!ParseWholeInteger(text, &value))
+  const WholeInteger parsed = ParseWholeInteger(text, &value);
+  if (parsed == WholeInteger::kNotInteger)
     throw InputError(path, row.line, FieldName(k),
                      "'" + text + "' is not an integer timestamp in nanoseconds");
-  if (value < 0) throw InputError(path, row.line, FieldName(k), "negative timestamp");
-  if (value > limits::kMaxTimestampNs)
-    throw InputError(path, row.line, FieldName(k),
-                     "timestamp " + text + " ns is beyond " +
-                         std::to_string(limits::kMaxTimestampNs) + " ns (year 2116)");
+  if (parsed == WholeInteger::kTooSmall || value < 0)
+    throw InputError(path, row.line, FieldName(k), "negative timestamp");
+  if (parsed == WholeInteger::kTooLarge || value > limits::kMaxTimestampNs)
+    throw InputError(path, row.line, FieldName(k), TimestampBeyond(text, "ns"));
   return value;
 }
 
@@ -116,10 +131,7 @@ TimeNs TextTable::SecondsAsNs(const TextRow& row, size_t k) const {
   if (!integer.empty() && digits(integer) && digits(fraction) && integer.size() < 11) {
     const long long whole_s = std::stoll(integer);  // at most 10 digits: no overflow
     if (whole_s >= limits::kMaxTimestampNs / kNsPerSecond)
-      throw InputError(path, row.line, FieldName(k),
-                       "timestamp " + text + " s is beyond " +
-                           std::to_string(limits::kMaxTimestampNs / kNsPerSecond) +
-                           " s (year 2116)");
+      throw InputError(path, row.line, FieldName(k), TimestampBeyond(text, "s"));
     std::string nanos = fraction.substr(0, 9);
     nanos.resize(9, '0');
     TimeNs t = whole_s * kNsPerSecond + std::stoll(nanos);
@@ -129,9 +141,7 @@ TimeNs TextTable::SecondsAsNs(const TextRow& row, size_t k) const {
   const double seconds = Number(row, k);
   if (seconds < 0) throw InputError(path, row.line, FieldName(k), "negative timestamp");
   if (!(seconds * 1e9 <= static_cast<double>(limits::kMaxTimestampNs)))
-    throw InputError(path, row.line, FieldName(k),
-                     "timestamp " + text + " s is beyond " +
-                         std::to_string(limits::kMaxTimestampNs / kNsPerSecond) + " s (year 2116)");
+    throw InputError(path, row.line, FieldName(k), TimestampBeyond(text, "s"));
   return SecondsToNs(seconds);
 }
 

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include "core/errors.h"
@@ -58,6 +59,21 @@ void CheckScenarioOptions(const ScenarioEntry& entry, const ScenarioOptions& opt
                         "(kMaxScenarioRateHz, datasets/scenarios/scenario.h)",
                         key, value, kMaxScenarioRateHz));
     }
+  }
+  // Counts and sizes (datasets/scenarios/scenario.h): a huge value would only end in an
+  // allocation failure after minutes of work.
+  const std::map<std::string, int> max_counts = {{"landmarks", kMaxScenarioLandmarks},
+                                                 {"supersampling", kMaxScenarioSupersampling},
+                                                 {"blur_samples", kMaxScenarioBlurSamples}};
+  for (const auto& [key, limit] : max_counts) {
+    const auto it = options.settings.find(key);
+    if (it == options.settings.end() || !entry.settings.count(key)) continue;
+    const int count = GetIntSetting(options.settings, key, 0);  // throws for a non-integer
+    if (count > limit)
+      throw InputError(
+          fmt::format("--set {}={}: above {}, the simulator's limit (datasets/"
+                      "scenarios/scenario.h)",
+                      key, it->second, limit));
   }
   if (options.duration_s) {
     const double d = *options.duration_s;

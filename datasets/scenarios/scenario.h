@@ -28,6 +28,13 @@ inline constexpr TimeNs kScenarioStartNs = 1'000'000'000'000;
 // refused before any work (`--duration`, and every `--set *_rate_hz`).
 inline constexpr double kMaxScenarioDurationS = 3600.0;
 inline constexpr double kMaxScenarioRateHz = 1000.0;
+// Counts and sizes, refused above these before any work (`--set`): landmarks of mav-figure-eight
+// (a feature row is ~50 bytes in memory; 1000 landmarks, a third in view, at 20 Hz for an hour are
+// 2.2e7 rows, ~1 GB, against 4e6 for the default 200), and the tag renderer's samples per pixel
+// (supersampling^2 x blur_samples renders per frame: 16 and 64 are far beyond the defaults 4, 5).
+inline constexpr int kMaxScenarioLandmarks = 1000;
+inline constexpr int kMaxScenarioSupersampling = 16;
+inline constexpr int kMaxScenarioBlurSamples = 64;
 
 struct ScenarioOptions {
   uint64_t seed = 1;
@@ -58,8 +65,9 @@ struct ScenarioEntry {
   std::string name;
   std::string description;
   // Every `--set` key the scenario reads. The registry's generate rejects any other key, a
-  // duration outside (0, kMaxScenarioDurationS] and a `*_rate_hz` setting outside
-  // (0, kMaxScenarioRateHz] with an InputError before generating anything.
+  // duration outside (0, kMaxScenarioDurationS], a `*_rate_hz` setting outside
+  // (0, kMaxScenarioRateHz] and a count above its kMaxScenario* limit with an InputError before
+  // generating anything.
   std::set<std::string> settings;
   std::function<Dataset(const ScenarioOptions&)> generate;
 };

@@ -10,6 +10,7 @@
 #include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -80,19 +81,65 @@ std::string TaskList(const std::vector<int>& tasks) {
   return fmt::format("{}", fmt::join(tasks, ","));
 }
 
+bool HasControlCharacter(const std::string& text) {
+  for (const unsigned char c : text)
+    if (c < 0x20 || c == 0x7f) return true;
+  return false;
+}
+
+void RequireFormat(const std::string& option, const std::string& value, const std::regex& format,
+                   const std::string& expected) {
+  if (HasControlCharacter(value) || !std::regex_match(value, format))
+    throw InputError(option + ": '" + value + "' is not " + expected +
+                     " (it goes into an #SBATCH line of the job scripts)");
+}
+
 }  // namespace
 
-SlurmFiles WriteSlurmFiles(const SweepGrid& grid, const SlurmOptions& options) {
+void CheckSlurmOptions(const SlurmOptions& options) {
+  static const std::regex kTime(
+      R"((\d+-\d+(:\d+){0,2})|(\d+(:\d+){0,2})|UNLIMITED|unlimited|INFINITE|infinite)");
+  static const std::regex kMem(R"(\d+[KMGTkmgt]?)");
+  static const std::regex kName(R"([A-Za-z0-9_.\-]+)");
+  static const std::regex kNames(R"([A-Za-z0-9_.\-]+(,[A-Za-z0-9_.\-]+)*)");
+  RequireFormat("--time", options.time, kTime,
+                "a Slurm time limit (MINUTES, MM:SS, HH:MM:SS, D-HH, D-HH:MM, D-HH:MM:SS or "
+                "UNLIMITED)");
+  if (!options.mem.empty())
+    RequireFormat("--mem", options.mem, kMem,
+                  "a Slurm memory size (a whole number with an optional K, M, G or T, e.g. 4G)");
+  if (!options.partition.empty())
+    RequireFormat("--partition", options.partition, kNames,
+                  "a Slurm partition name (letters, digits, '_', '-', '.'; a comma between names)");
+  if (!options.account.empty())
+    RequireFormat("--account", options.account, kName,
+                  "a Slurm account name (letters, digits, '_', '-', '.')");
+  for (const auto& line : options.setup_lines)
+    if (HasControlCharacter(line))
+      throw InputError("--setup: '" + line +
+                       "' holds a newline or another control character: give one shell line per "
+                       "--setup");
   const std::string dir = fs::absolute(options.results_dir).lexically_normal().string();
+  if (HasControlCharacter(dir) || dir.find_first_of(" \t%") != std::string::npos)
+    throw InputError("--out: '" + options.results_dir +
+                     "' holds a space, '%' or a control character, which an #SBATCH --output line "
+                     "cannot hold; choose another results folder");
+}
+
+SlurmFiles WriteSlurmFiles(const SweepGrid& grid, const SlurmOptions& options) {
+  CheckSlurmOptions(options);
+  const std::string dir = fs::absolute(options.results_dir).lexically_normal().string();
+  const std::string out =
+      options.write_dir.empty() ? dir : fs::absolute(options.write_dir).lexically_normal().string();
   std::string mavloc = options.mavloc_path;
   if (mavloc.empty()) mavloc = fs::read_symlink("/proc/self/exe").string();
   if (options.shards < 1) throw InputError("--shards: must be at least 1");
   std::error_code error;
   for (const char* sub : {"", "/partials", "/logs"}) {
-    CreateOutputDirectories(dir + sub, error);
-    if (error) throw InputError(dir + sub, 0, "", "cannot create folder: " + error.message());
+    CreateOutputDirectories(out + sub, error);
+    if (error) throw InputError(out + sub, 0, "", "cannot create folder: " + error.message());
   }
-  WriteFileAtomically(dir + "/grid.json", SweepGridToJson(grid).dump(2) + "\n");
+  WriteFileAtomically(out + "/grid.json", SweepGridToJson(grid).dump(2) + "\n");
 
   auto header = [&](const std::string& name) {
     std::string text = "#!/bin/bash\n#SBATCH --job-name=" + name + "\n";
@@ -129,14 +176,23 @@ SlurmFiles WriteSlurmFiles(const SweepGrid& grid, const SlurmOptions& options) {
                        ShellQuote(dir + "/partials"), ShellQuote(dir + "/report"));
 
   SlurmFiles files{dir + "/sweep.sbatch", dir + "/merge.sbatch"};
-  WriteFileAtomically(files.array_script, array);
-  WriteFileAtomically(files.merge_script, merge);
-  fs::permissions(files.array_script, fs::perms::owner_exec, fs::perm_options::add, error);
-  fs::permissions(files.merge_script, fs::perms::owner_exec, fs::perm_options::add, error);
+  WriteFileAtomically(out + "/sweep.sbatch", array);
+  WriteFileAtomically(out + "/merge.sbatch", merge);
+  fs::permissions(out + "/sweep.sbatch", fs::perms::owner_exec, fs::perm_options::add, error);
+  fs::permissions(out + "/merge.sbatch", fs::perms::owner_exec, fs::perm_options::add, error);
   nlohmann::json state = {{"shards", options.shards},
                           {"fingerprint", SweepFingerprint(grid)},
                           {"submissions", nlohmann::json::array()}};
-  WriteFileAtomically(dir + "/slurm.json", state.dump(2) + "\n");
+  WriteFileAtomically(out + "/slurm.json", state.dump(2) + "\n");
+  WriteFileAtomically(
+      out + "/report.md",
+      fmt::format("# Sweep on Slurm (mavloc sweep --slurm)\n\n"
+                  "Grid fingerprint {}: {} units in {} shards (grid.json). The job array "
+                  "(sweep.sbatch) writes partials/, the merge job (merge.sbatch) the report to "
+                  "report/ when every shard is complete.\n\n"
+                  "Status: `mavloc sweep-status {}`; failed shards only: `mavloc sweep-status {} "
+                  "--resubmit`.\n",
+                  SweepFingerprint(grid), SweepUnitCount(grid), options.shards, dir, dir));
   return files;
 }
 

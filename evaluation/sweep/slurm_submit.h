@@ -33,13 +33,26 @@ struct SlurmOptions {
   std::string partition, account;
   std::vector<std::string> setup_lines;  // shell lines before mavloc runs (module load ...)
   std::string mavloc_path;               // absolute; default: this executable
+  // Where the files are written when not results_dir itself: the staging folder the CLI puts in
+  // results_dir's place afterwards (cli/output_folder.h). The scripts name results_dir.
+  std::string write_dir;
 };
+
+// Throws InputError naming the option (--time, --mem, --partition, --account, --setup, --out)
+// whose value would not be one #SBATCH or shell line of the scripts: a newline or another control
+// character (which would inject lines), or a value that is not in Slurm's format (--time
+// MINUTES, MM:SS, HH:MM:SS, D-HH, D-HH:MM, D-HH:MM:SS or UNLIMITED; --mem a whole number with an
+// optional K, M, G or T; --partition and --account names of letters, digits, '_', '-', '.').
+void CheckSlurmOptions(const SlurmOptions& options);
 
 struct SlurmFiles {
   std::string array_script, merge_script;
 };
 
-// Writes grid.json, sweep.sbatch, merge.sbatch (atomically) and the partials/ and logs/ folders.
+// Writes grid.json, sweep.sbatch, merge.sbatch, slurm.json, report.md (what the folder is and where
+// the merged report will be: it marks the folder as a mavloc report folder, which a later
+// `--slurm --out` into it may replace) and the partials/ and logs/ folders. Checks the options
+// first (CheckSlurmOptions).
 SlurmFiles WriteSlurmFiles(const SweepGrid& grid, const SlurmOptions& options);
 
 struct SlurmSubmission {

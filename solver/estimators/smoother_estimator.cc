@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <optional>
 
@@ -19,18 +20,17 @@ namespace mavloc {
 
 namespace {
 
-// The leading number of a scenario.yaml value ("1 per bearing angle (...)" -> 1).
+// The leading number of a scenario.yaml value ("1 per bearing angle (...)" -> 1); nullopt only
+// when the key is absent. ReadScenarioInfo has checked the values of a file with their lines; text
+// that does not parse is refused here too, never taken as "not stated".
 std::optional<double> ScenarioNumber(const Dataset& dataset, const std::string& key) {
   auto it = dataset.scenario_info.find(key);
   if (it == dataset.scenario_info.end()) return std::nullopt;
-  try {
-    size_t used = 0;
-    const double value = std::stod(it->second, &used);
-    if (used == 0 || !std::isfinite(value)) return std::nullopt;
-    return value;
-  } catch (...) {
-    return std::nullopt;
-  }
+  char* end = nullptr;
+  const double value = std::strtod(it->second.c_str(), &end);
+  if (end == it->second.c_str() || !std::isfinite(value) || value < 0.0)
+    throw InputError("scenario.yaml", 0, key, "'" + it->second + "' is not a finite number >= 0");
+  return value;
 }
 
 bool StreamHasMapTags(const Dataset& dataset, const std::vector<TagObservation>& stream) {
@@ -239,9 +239,23 @@ SmootherResult SolveRobustly(const Dataset& dataset, const std::vector<SmootherK
 constexpr double kPlausibleCostFactor = 10.0;
 // The growing window's first span (option grow_window_s; 0 turns the growing window off).
 constexpr double kDefaultGrowWindowS = 3.0;
-bool CostIsPlausible(const SmootherStatistics& statistics) {
+// A solution that kept fewer than this share of the spots has left out the spots whose beam misses
+// its plane (a seed gone astray): a small cost over the spots that are left proves nothing.
+constexpr double kMinSpotShare = 0.9;
+bool SolutionIsPlausible(const SmootherStatistics& statistics, int spots) {
   const double dims = 15.0 * statistics.num_imu_factors + 2.0 * statistics.num_visual_residuals;
-  return 2.0 * statistics.final_cost <= kPlausibleCostFactor * std::max(dims, 1.0);
+  return 2.0 * statistics.final_cost <= kPlausibleCostFactor * std::max(dims, 1.0) &&
+         statistics.num_visual_residuals >= kMinSpotShare * spots;
+}
+
+// The laser spots at keyframe times: what a solution's visual residuals should number.
+int SpotsAtKeyframes(const Dataset& dataset, const std::vector<SmootherKeyframe>& keyframes) {
+  std::vector<TimeNs> times;
+  for (const auto& kf : keyframes) times.push_back(kf.t_ns);
+  int spots = 0;
+  for (const auto& spot : dataset.laser)
+    spots += std::binary_search(times.begin(), times.end(), spot.t_ns) ? 1 : 0;
+  return spots;
 }
 
 // The growing window of laser-only data: the seed (laser-ekf, which has no bias states) can leave
@@ -505,13 +519,24 @@ Estimate SmootherEstimator::RunFromLaserModes(const Dataset& dataset,
       SolveRobustly(dataset, init.keyframes, {}, gauge_plane, problem_options, graduated);
   // A solution whose cost is far above its residuals' expectation started from a seed that went
   // astray (laser-ekf has no bias states: on the real IMU of euroc-laser it diverges after ~11 s):
-  // the growing window starts from the seed's first seconds only; the lower cost is kept.
+  // the growing window starts from the seed's first seconds only.
   const double window_s = options_.GetDouble("grow_window_s", kDefaultGrowWindowS);
-  if (window_s > 0.0 && (!last_result_.usable || !CostIsPlausible(last_result_.statistics))) {
+  // Implausible too: a solution that left out the spots whose beam misses its plane.
+  const int spots = SpotsAtKeyframes(dataset, init.keyframes);
+  const auto plausible = [&](const SmootherResult& r) {
+    return r.usable && SolutionIsPlausible(r.statistics, spots);
+  };
+  if (window_s > 0.0 && !plausible(last_result_)) {
     SmootherResult grown = SolveInGrowingWindows(dataset, init.keyframes, gauge_plane,
                                                  problem_options, graduated, window_s);
-    if (grown.usable && (!last_result_.usable ||
-                         grown.statistics.final_cost < last_result_.statistics.final_cost)) {
+    // A plausible solution wins over an implausible one; between two of the same kind, the
+    // lower cost.
+    const bool take_grown =
+        grown.usable && (!last_result_.usable ||
+                         (plausible(grown) != plausible(last_result_)
+                              ? plausible(grown)
+                              : grown.statistics.final_cost < last_result_.statistics.final_cost));
+    if (take_grown) {
       AddStatistics(last_result_.statistics, &grown.statistics);
       last_result_ = std::move(grown);
     } else {

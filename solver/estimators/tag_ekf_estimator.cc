@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include "core/errors.h"
@@ -21,14 +22,16 @@ struct PendingFrame {
   std::vector<TagPoseMeasurement> tags;
 };
 
+// A number scenario.yaml states (ReadScenarioInfo has checked it with its line); the fallback
+// only when the key is absent, never for text that does not parse.
 double ScenarioDouble(const Dataset& dataset, const std::string& key, double fallback) {
   const auto it = dataset.scenario_info.find(key);
   if (it == dataset.scenario_info.end()) return fallback;
-  try {
-    return std::stod(it->second);
-  } catch (const std::exception&) {
-    return fallback;
-  }
+  char* end = nullptr;
+  const double value = std::strtod(it->second.c_str(), &end);
+  if (end == it->second.c_str() || !std::isfinite(value))
+    throw InputError("scenario.yaml", 0, key, "'" + it->second + "' is not a finite number");
+  return value;
 }
 
 }  // namespace

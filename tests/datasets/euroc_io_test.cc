@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include "core/errors.h"
 #include "datasets/io/tum_io.h"
@@ -312,6 +313,7 @@ TEST(EurocWriter, Tags1AndBoardFrameRoundTrip) {
   right.tag_id = 5;
   right.corners_px[2] = {50.25, 60.5};
   in.tags1 = {right};
+  in.map.tags[5] = {5, 0.16, Pose(Eigen::Quaterniond::Identity(), Eigen::Vector3d(2, 1, 0))};
   CameraSensor cam1 = in.cameras[0];
   cam1.name = "cam1";
   cam1.frames = {};
@@ -361,6 +363,86 @@ TEST(EurocReaderBadInput, UnknownMapFrameAndBadTags1Row) {
                                                  "5,1,0,0,1,0,1,1,0,nan\n";
   error = ErrorOf(dir);
   EXPECT_NE(error.find("tags1/data.csv:2: field 'v3'"), std::string::npos) << error;
+}
+
+// Held-out catalogue of issue 17, class 4 (silent degradation) on the ASL reader: each mutation of
+// a written dataset used to load without a word (an estimator then failed on every frame, or a
+// column or coefficient was dropped); now each is refused naming the file and the field.
+TEST(EurocReaderBadInput, SilentDegradationIsRefused) {
+  struct Case {
+    const char* name;
+    std::function<void(const std::string& dir)> mutate;
+    const char* file;
+    const char* message;
+  };
+  const auto rewrite = [](const std::string& path, const std::string& text) {
+    std::ofstream(path, std::ios::trunc) << text;
+  };
+  const auto replace_in = [](const std::string& path, const std::string& from,
+                             const std::string& to) {
+    std::ifstream in(path);
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    const auto at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << path << " has no '" << from << "'";
+    text.replace(at, from.size(), to);
+    std::ofstream(path, std::ios::trunc) << text;
+  };
+  const std::vector<Case> cases = {
+      {"imu0 is a file",
+       [&](const std::string& dir) {
+         fs::remove_all(dir + "/mav0/imu0");
+         rewrite(dir + "/mav0/imu0", "x\n");
+       },
+       "mav0/imu0", "is not a folder"},
+      {"camera folder without sensor.yaml",
+       [](const std::string& dir) { fs::remove(dir + "/mav0/cam0/sensor.yaml"); },
+       "cam0/sensor.yaml", "has data.csv but no sensor.yaml"},
+      {"no tag of the map",
+       [&](const std::string& dir) {
+         replace_in(dir + "/mav0/tags0/data.csv", "\n1000,3,", "\n1000,999,");
+       },
+       "tags0/data.csv:2: field 'tag_id'", "none of the 1 detections names a tag of map.yaml"},
+      {"tags1 without cam1",
+       [](const std::string& dir) {
+         fs::create_directories(dir + "/mav0/tags1");
+         fs::copy_file(dir + "/mav0/tags0/data.csv", dir + "/mav0/tags1/data.csv");
+       },
+       "tags1/data.csv", "there is no cam1/ folder"},
+      {"five distortion coefficients",
+       [&](const std::string& dir) {
+         replace_in(dir + "/mav0/cam0/sensor.yaml", "0.04]", "0.04, 0.5]");
+       },
+       "cam0/sensor.yaml",
+       "field 'distortion_coefficients': expected 4 values (k1 k2 k3 k4), got 5"},
+      {"accelerometer columns first",
+       [&](const std::string& dir) {
+         replace_in(dir + "/mav0/imu0/data.csv",
+                    "w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],a_RS_S_x [m "
+                    "s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]",
+                    "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2],w_RS_S_x [rad "
+                    "s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1]");
+       },
+       "imu0/data.csv:1: field 'a_RS_S_x [m s^-2]'", "column 2 must be the gyroscope"},
+      {"an IMU row with an extra column",
+       [&](const std::string& dir) {
+         replace_in(dir + "/mav0/imu0/data.csv", ",9.81\n", ",9.81,7.5\n");
+       },
+       "imu0/data.csv:2", "row has 8 fields; an IMU row has 7"},
+      {"a truth quantity named twice",
+       [&](const std::string& dir) {
+         replace_in(dir + "/mav0/truth_quantities0/data.csv", "alpha [rad]", "d [rad]");
+       },
+       "truth_quantities0/data.csv:1", "quantity 'd' is named twice in the header"},
+  };
+  for (const Case& c : cases) {
+    const std::string dir = testing::MakeTempDir();
+    WriteEurocDataset(SmallDataset(), dir);
+    ASSERT_EQ(ErrorOf(dir), "") << c.name << ": the unmutated dataset must load";
+    c.mutate(dir);
+    const std::string error = ErrorOf(dir);
+    EXPECT_NE(error.find(c.file), std::string::npos) << c.name << ": " << error;
+    EXPECT_NE(error.find(c.message), std::string::npos) << c.name << ": " << error;
+  }
 }
 
 TEST(EurocWriter, AtomicFolderWrite) {

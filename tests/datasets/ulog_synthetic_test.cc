@@ -474,12 +474,15 @@ TEST_F(UlogSynthetic, StampTooLargeForNanosecondsIsACorruptMessage) {
   const UlogInfo info = ReadUlogInfo(path);
   bool corrupt_note = false;
   for (const std::string& n : info.notes)
-    corrupt_note = corrupt_note || n.find("2 malformed message") != std::string::npos;
+    corrupt_note = corrupt_note || n.find("2 data message(s) with a timestamp beyond the range") !=
+                                       std::string::npos;
   EXPECT_TRUE(corrupt_note);
   const LogSummary summary = SummarizeUlog(path);
   EXPECT_EQ(summary.t_end_ns, 2030005000);  // the last valid stamp (instance 1)
   EXPECT_EQ(ReadUlogImu(path, "sensor_combined").size(), 4u);
-  EXPECT_EQ(ulog::StampNs(ulog::kMaxStampUs - 1), int64_t{9'199'999'999'999'999'000});
+  // The last stamp kept is within limits::kMaxTimestampNs (2^62 ns), as every other reader's.
+  EXPECT_EQ(ulog::StampNs(ulog::kMaxStampUs - 1), int64_t{4'611'686'018'427'387'000});
+  EXPECT_LE(*ulog::StampNs(ulog::kMaxStampUs - 1), limits::kMaxTimestampNs);
   EXPECT_FALSE(ulog::StampNsOfField(std::nan("")));
   EXPECT_FALSE(ulog::StampNsOfField(-1.0));
   EXPECT_FALSE(ulog::StampNsOfField(1e300));

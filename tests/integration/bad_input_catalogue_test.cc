@@ -29,18 +29,6 @@ using testing::CliPath;
 using testing::MakeTempDir;
 using testing::RunCommand;
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void WriteText(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-}
-
 std::vector<std::string> Lines(const std::string& text) {
   std::vector<std::string> lines;
   std::stringstream stream(text);
@@ -187,7 +175,8 @@ class BadInputCatalogue : public ::testing::Test {
       fs::remove_all(target);
       fs::create_directories(target);
     } else {
-      WriteText(target, c.mutation.edit(fs::exists(target) ? ReadText(target) : ""));
+      testing::WriteFileBytes(
+          target, c.mutation.edit(fs::exists(target) ? testing::ReadFileBytes(target) : ""));
     }
     const fs::path report = work.parent_path() / "report";
     fs::remove_all(report);
@@ -236,7 +225,7 @@ class BadInputCatalogue : public ::testing::Test {
   // measurements. The message names file:line and the column (quaternion columns: the quaternion).
   static std::vector<Case> ColumnCases(const std::string& base, const std::string& file,
                                        size_t first_column = 1) {
-    const auto lines = Lines(ReadText(BaseDataset(base) / file));
+    const auto lines = Lines(testing::ReadFileBytes(BaseDataset(base) / file));
     const auto header = SplitCommas(lines.at(0));
     const auto fields = SplitCommas(lines.at(1));
     std::vector<Case> cases;
@@ -716,8 +705,8 @@ void ExpectEvalRefuses(const std::vector<FileCase>& cases, int expected_exit = 2
     const fs::path dir = Scratch() / "eval";
     fs::remove_all(dir);
     fs::create_directories(dir);
-    WriteText(dir / "gt.tum", TumTruth());
-    WriteText(dir / "est.txt", c.estimate);
+    testing::WriteFileBytes(dir / "gt.tum", TumTruth());
+    testing::WriteFileBytes(dir / "est.txt", c.estimate);
     const auto result =
         RunCommand(CliPath() + " eval --gt " + (dir / "gt.tum").string() + " --est " +
                    (dir / "est.txt").string() + " --out " + (dir / "report").string());

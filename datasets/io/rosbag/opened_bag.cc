@@ -1,5 +1,6 @@
 #include "datasets/io/rosbag/opened_bag.h"
 
+#include <console_bridge/console.h>
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -32,9 +33,22 @@ std::string DescribeOpenFailure(const BagRecordScan& scan, const std::string& wh
   return fmt::format("index at byte {} is unreadable; rosbag: {}", scan.index_pos, what);
 }
 
+// ROS's libraries (ros::Header::parse in libcpp_common, rosbag_storage) print their own errors
+// through console_bridge to stderr ("Error: Received an invalid TCPROS header..." and the source
+// line) before the exception mavloc turns into its one line: their output handler is removed, once,
+// before the first bag is read. Every failure still reaches the user as an InputError.
+void SilenceRosConsole() {
+  static const bool silenced = [] {
+    console_bridge::noOutputHandler();
+    return true;
+  }();
+  (void)silenced;
+}
+
 }  // namespace
 
 OpenedBag::OpenedBag(const std::string& path) : path_(path), opened_path_(path) {
+  SilenceRosConsole();
   if (!std::filesystem::is_regular_file(path)) {
     throw InputError(path, 0, "", "no such bag file");
   }

@@ -2,7 +2,8 @@
 // A whole-file bzip2 bag is first decompressed (streaming) into a temporary file in the system's
 // temporary folder, removed when the OpenedBag is destroyed. rosbag_storage's exceptions become
 // InputErrors naming the file, the topic and the message index, or the byte where a truncated or
-// corrupt bag stops (from ScanBagRecords, bag_records.h).
+// corrupt bag stops (from ScanBagRecords, bag_records.h). The ROS libraries' own console output
+// is silenced, so a bad bag gives one line on stderr.
 #pragma once
 
 #include <rosbag/bag.h>

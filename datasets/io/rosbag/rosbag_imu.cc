@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/errors.h"
+#include "core/physical_limits.h"
 #include "datasets/io/rosbag/opened_bag.h"
 #include "datasets/io/rosbag/ros_messages.h"
 #include "datasets/io/rosbag/rosbag_reader.h"
@@ -26,6 +27,21 @@ std::vector<ImuSample> ReadRosbagImu(const std::string& path, const std::string&
                          imu->linear_acceleration.z};
     if (!sample.gyro_rad_s.allFinite() || !sample.accel_m_s2.allFinite()) {
       bag.Fail(topic, index, "angular_velocity or linear_acceleration is not finite");
+    }
+    // The sanity ranges of core/physical_limits.h, as the EuRoC reader applies to imu0/data.csv.
+    if (!(sample.gyro_rad_s.cwiseAbs().maxCoeff() <= limits::kMaxAngularRate_rad_s)) {
+      bag.Fail(topic, index,
+               fmt::format("angular_velocity {:g} rad/s is outside {}",
+                           sample.gyro_rad_s.cwiseAbs().maxCoeff(),
+                           limits::RangeText(-limits::kMaxAngularRate_rad_s,
+                                             limits::kMaxAngularRate_rad_s, "rad/s")));
+    }
+    if (!(sample.accel_m_s2.cwiseAbs().maxCoeff() <= limits::kMaxSpecificForce_m_s2)) {
+      bag.Fail(topic, index,
+               fmt::format("linear_acceleration {:g} m/s^2 is outside {}",
+                           sample.accel_m_s2.cwiseAbs().maxCoeff(),
+                           limits::RangeText(-limits::kMaxSpecificForce_m_s2,
+                                             limits::kMaxSpecificForce_m_s2, "m/s^2")));
     }
     if (!samples.empty() && sample.t_ns <= samples.back().t_ns) {
       bag.Fail(topic, index,

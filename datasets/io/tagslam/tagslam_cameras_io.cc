@@ -7,6 +7,7 @@
 
 #include "core/errors.h"
 #include "core/physical_limits.h"
+#include "datasets/io/calibration_io.h"
 #include "datasets/io/tagslam/tagslam_yaml.h"
 #include "datasets/io/yaml_util.h"
 
@@ -29,9 +30,8 @@ std::optional<CameraModel> ReadModel(const YAML::Node& camera, const std::string
       resolution[1] > limits::kMaxResolution_px)
     throw InputError(path, YamlLine(camera["resolution"]), "resolution",
                      fmt::format("expected two integers in [1, {}]", limits::kMaxResolution_px));
-  if (!(intrinsics[0] > 0.0 && intrinsics[1] > 0.0))
-    throw InputError(path, YamlLine(camera["intrinsics"]), "intrinsics",
-                     "focal lengths must be > 0");
+  CheckIntrinsicsRange(camera, "intrinsics", "intrinsics", path, intrinsics);
+  CheckDistortionRange(camera, "distortion_coeffs", "distortion_coeffs", path, k);
   if (projection != "pinhole") {
     *why = "camera_model '" + projection + "' (mavloc has pinhole only)";
     return std::nullopt;

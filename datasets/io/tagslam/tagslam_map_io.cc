@@ -6,6 +6,7 @@
 #include <cctype>
 
 #include "core/errors.h"
+#include "core/physical_limits.h"
 #include "core/rotation.h"
 #include "datasets/io/tagslam/tagslam_yaml.h"
 #include "datasets/io/yaml_util.h"
@@ -34,6 +35,10 @@ void ReadBodyTags(const YAML::Node& tags, const BodyContext& body, const std::st
     double size_m = 0.0;
     if (tag["size"]) {
       size_m = YamlDouble(tag, "size", path);
+      if (size_m > limits::kMaxTagSize_m)
+        throw InputError(path, YamlLine(tag["size"]), "size",
+                         fmt::format("tag {}: {:g} is outside {}", id, size_m,
+                                     limits::RangeText(0.0, limits::kMaxTagSize_m, "m")));
     } else if (body.default_tag_size_m) {
       size_m = *body.default_tag_size_m;
     } else {
@@ -137,9 +142,10 @@ TagslamMap ReadTagslamMap(const std::string& path) {
     body.is_static = node["is_static"] && YamlBool(node, "is_static", path);
     if (node["default_tag_size"]) {
       body.default_tag_size_m = YamlDouble(node, "default_tag_size", path);
-      if (!(*body.default_tag_size_m > 0.0))
+      if (!(*body.default_tag_size_m > 0.0 && *body.default_tag_size_m <= limits::kMaxTagSize_m))
         throw InputError(path, YamlLine(node["default_tag_size"]), "default_tag_size",
-                         "must be > 0");
+                         fmt::format("{:g} must be > 0 and within {}", *body.default_tag_size_m,
+                                     limits::RangeText(0.0, limits::kMaxTagSize_m, "m")));
     }
     if (node["pose"]) body.T_W_body = ReadTagslamPose(node, "pose", path);
     (body.is_static ? out.static_bodies : out.dynamic_bodies).push_back(body.name);

@@ -72,8 +72,7 @@ KittiTimes ReadKittiTimes(const std::string& path) {
           fmt::format("expected one stamp [s] per line, found {} fields", row.fields.size()));
     TimeNs t = 0;
     if (!ParseSecondsAsNs(row.fields[0], &t))
-      throw InputError(path, row.line, "timestamp",
-                       "'" + row.fields[0] + "' is not a non-negative time in seconds");
+      throw InputError(path, row.line, "timestamp", DescribeBadStamp(row.fields[0], true));
     times.t_ns.push_back(t);
     times.lines.push_back(row.line);
   }

@@ -113,8 +113,7 @@ std::vector<RowState> ParsePoseRows(const TrajectoryText& text, const PoseColumn
                                                        : ParseNanoseconds(stamp, &r.state.t_ns);
     if (!ok)
       throw InputError(text.path, row.line, layout.Name(layout.t),
-                       fmt::format("'{}' is not a non-negative time in {}", stamp,
-                                   layout.unit == StampUnit::kSeconds ? "seconds" : "nanoseconds"));
+                       DescribeBadStamp(stamp, layout.unit == StampUnit::kSeconds));
     r.state.T_W_B.p = Vector(text.path, row, layout, layout.p, limits::kMaxPosition_m, "m");
     const Eigen::Quaterniond q(Number(text.path, row, layout, layout.q_wxyz[0]),
                                Number(text.path, row, layout, layout.q_wxyz[1]),

@@ -1,5 +1,7 @@
 #include "datasets/io/trajectory_formats/trajectory_stamps.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 
 #include "core/physical_limits.h"
@@ -47,6 +49,23 @@ bool ParseNanoseconds(const std::string& text, TimeNs* t_ns) {
     return false;
   *t_ns = static_cast<TimeNs>(std::llround(ns));
   return true;
+}
+
+std::string DescribeBadStamp(const std::string& text, bool seconds) {
+  const std::string unit = seconds ? "s" : "ns";
+  // A number too large even for a double ("1" and 400 zeros) is beyond the range as well.
+  const std::string body = !text.empty() && text[0] == '+' ? text.substr(1) : text;
+  const bool decimal =
+      !body.empty() && body.find_first_not_of("0123456789.") == std::string::npos &&
+      body.find_first_of("0123456789") != std::string::npos && body.find('.') == body.rfind('.');
+  double value = 0.0;
+  if (decimal || (ParseFiniteDouble(text, &value) && value > 0.0)) {
+    return fmt::format("'{}' is beyond {} {} (limits::kMaxTimestampNs = 2^62 ns, year 2116)", text,
+                       seconds ? limits::kMaxTimestampNs / kNsPerSecond : limits::kMaxTimestampNs,
+                       unit);
+  }
+  return fmt::format("'{}' is not a non-negative time in {}", text,
+                     seconds ? "seconds" : "nanoseconds");
 }
 
 }  // namespace mavloc

@@ -13,5 +13,9 @@ namespace mavloc {
 // (core/physical_limits.h).
 bool ParseSecondsAsNs(const std::string& text, TimeNs* t_ns);
 bool ParseNanoseconds(const std::string& text, TimeNs* t_ns);
+// Why one of them refused `text` (in seconds or nanoseconds), for a message: "'1e20' is beyond
+// 4611686018 s (limits::kMaxTimestampNs = 2^62 ns, year 2116)" for a positive number too large,
+// else "'abc' is not a non-negative time in seconds".
+std::string DescribeBadStamp(const std::string& text, bool seconds);
 
 }  // namespace mavloc

@@ -198,7 +198,7 @@ std::optional<int64_t> StampNs(uint64_t t_us) {
 }
 
 std::optional<int64_t> StampNsOfField(double t_us) {
-  // kMaxStampUs is a multiple of 2^16, exact as a double.
+  // kMaxStampUs is below 2^53, exact as a double.
   if (!(t_us >= 0.0 && t_us < static_cast<double>(kMaxStampUs))) return std::nullopt;
   return StampNs(static_cast<uint64_t>(t_us));
 }

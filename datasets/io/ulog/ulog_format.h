@@ -13,6 +13,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/physical_limits.h"
+
 namespace mavloc::ulog {
 
 enum class PrimitiveType {
@@ -75,9 +77,10 @@ uint64_t ReadUint64(const uint8_t* data);
 uint16_t ReadUint16(const uint8_t* data);
 
 // A ULog stamp (microseconds since boot) as mavloc's int64 nanoseconds, 1000 * t_us; nullopt for a
-// stamp no log can hold (kMaxStampUs and above, about 290 years, where 1000 * t_us would overflow)
-// and, for a stamp read from a floating-point field (timestamp_sample), for NaN or negative values.
-constexpr uint64_t kMaxStampUs = 9'200'000'000'000'000;
+// stamp no log can hold (kMaxStampUs and above: beyond limits::kMaxTimestampNs, 2^62 ns or about
+// 146 years, core/physical_limits.h, which every other reader applies) and, for a stamp read from
+// a floating-point field (timestamp_sample), for NaN or negative values.
+constexpr uint64_t kMaxStampUs = static_cast<uint64_t>(limits::kMaxTimestampNs / 1000) + 1;
 std::optional<int64_t> StampNs(uint64_t t_us);
 std::optional<int64_t> StampNsOfField(double t_us);
 

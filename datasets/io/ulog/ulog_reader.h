@@ -93,12 +93,18 @@ using UlogProgress = std::function<void(uint64_t bytes_done, uint64_t bytes_tota
 // accelerometer_m_s2 at timestamp + accelerometer_timestamp_relative; the sample time is the
 // gyro's `timestamp`) or "vehicle_imu[.N]" (delta_angle / delta_angle_dt and delta_velocity /
 // delta_velocity_dt, mean rates over the integration interval, stamped at `timestamp_sample`).
-// Messages with non-finite values, a zero dt, an invalid accelerometer stamp
-// (accelerometer_timestamp_relative = INT32_MAX), a corrupt stamp (ulog_format.h, StampNs) or a
-// stamp not after the previous one are skipped. Throws InputError for a missing topic, a topic of
-// another type, or missing fields.
+// A message with a non-finite value, or a rate beyond limits::kMaxAngularRate_rad_s or a specific
+// force beyond limits::kMaxSpecificForce_m_s2 (core/physical_limits.h), is refused (InputError
+// naming the file, the field and the topic's message index), as the ROS bag reader refuses it.
+// Messages PX4 marks invalid (accelerometer_timestamp_relative = INT32_MAX, a zero dt), messages
+// with a corrupt stamp (ulog_format.h, StampNs) and messages whose stamp is not after the previous
+// one are dropped and counted: each kind gets a note in `notes` (when not null) with its count and
+// first message index, and so does whatever the scan noted (truncation, corrupt messages; as in
+// UlogInfo::notes). Throws InputError for a missing topic, a topic of another type, or missing
+// fields.
 std::vector<ImuSample> ReadUlogImu(const std::string& path, const std::string& topic,
-                                   const UlogProgress& progress = {});
+                                   const UlogProgress& progress = {},
+                                   std::vector<std::string>* notes = nullptr);
 
 // A trajectory in mavloc's W (ENU or z-up FRD-world, see above) and B (FLU):
 // - vehicle_attitude: q (Hamilton w,x,y,z, body FRD -> NED); position zero, no velocity.
@@ -110,14 +116,19 @@ std::vector<ImuSample> ReadUlogImu(const std::string& path, const std::string& t
 //   velocity_frame, pose_covariance upper-right triangle). Velocity in a body frame is rotated
 //   into W with the message's own q. Covariance is filled when the message carries finite,
 //   non-negative, not-all-zero values.
-// Stamps are timestamp_sample when the topic has it, else timestamp. Messages with an invalid
-// pose (NaN, a non-unit q, both xy_valid and z_valid false) or a corrupt stamp (ulog_format.h,
-// StampNs) are skipped, and so are repeated stamps; a local position with only z valid is kept
-// (x, y as logged).
+// Stamps are timestamp_sample when the topic has it, else timestamp. Messages PX4 marks invalid
+// (NaN position or q, as vehicle_odometry documents "NaN if invalid/unknown"; both xy_valid and
+// z_valid false), messages with a corrupt stamp (ulog_format.h, StampNs) and messages whose stamp
+// is not after the previous one are dropped and counted, each kind with a note in `notes` (when not
+// null), as are the scan's notes; a local position with only z valid is kept (x, y as logged).
+// A finite value no MAV logs is refused (InputError naming the file, the field and the message
+// index): a position beyond limits::kMaxPosition_m, a velocity beyond limits::kMaxSpeed_m_s, a q
+// whose norm is off 1 by more than 0.1.
 // parent_frame is "world_enu" (from NED) or "world_flu" (from an FRD earth frame); child_frame is
 // "body_flu", or "body_position_only" for vehicle_local_position.
 // The instance is the topic's ".N" suffix or, without one, spec.instance.
 // Throws InputError for a missing topic, a topic without the needed fields, or an unknown frame.
-LogTrajectory ReadUlogTrajectory(const LogTopicSpec& spec, const UlogProgress& progress = {});
+LogTrajectory ReadUlogTrajectory(const LogTopicSpec& spec, const UlogProgress& progress = {},
+                                 std::vector<std::string>* notes = nullptr);
 
 }  // namespace mavloc

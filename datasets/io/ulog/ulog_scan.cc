@@ -350,8 +350,8 @@ class Scanner {
     const uint8_t* data = m.data + 2;
     uint64_t t_us = 0;
     if (sub.layout.timestamp_offset >= 0) t_us = ReadUint64(data + sub.layout.timestamp_offset);
-    if (!StampNs(t_us)) {  // no log runs for centuries: a corrupt message
-      ++skipped_corrupt_;
+    if (!StampNs(t_us)) {  // no log runs for a century: a corrupt message
+      if (stamp_beyond_++ == 0) first_stamp_beyond_offset_ = m.offset;
       return;
     }
     if (sub.messages == 0) sub.t_first_us = t_us;
@@ -396,6 +396,13 @@ class Scanner {
       info_.notes.push_back(fmt::format(
           "corrupt data: {} data message(s) without a subscription skipped", unknown_msg_id_));
     }
+    if (stamp_beyond_ > 0) {
+      info_.notes.push_back(fmt::format(
+          "corrupt data: {} data message(s) with a timestamp beyond the range (>= {} us, "
+          "limits::kMaxTimestampNs = 2^62 ns, core/physical_limits.h) skipped (first at byte "
+          "offset {})",
+          stamp_beyond_, kMaxStampUs, first_stamp_beyond_offset_));
+    }
     if (skipped_corrupt_ > 0) {
       info_.notes.push_back(
           fmt::format("corrupt data: {} malformed message(s) skipped", skipped_corrupt_));
@@ -422,6 +429,8 @@ class Scanner {
   uint64_t wrong_size_ = 0;
   uint64_t unknown_msg_id_ = 0;
   uint64_t skipped_corrupt_ = 0;
+  uint64_t stamp_beyond_ = 0;
+  uint64_t first_stamp_beyond_offset_ = 0;
   uint64_t resyncs_ = 0;
 };
 

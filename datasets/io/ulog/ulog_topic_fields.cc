@@ -2,10 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <limits>
 #include <map>
 
 #include "core/errors.h"
+#include "core/physical_limits.h"
 #include "datasets/io/ulog/ulog_scan.h"
 
 namespace mavloc::ulog {
@@ -102,7 +104,8 @@ TopicSelector ParseTopicSelector(const std::string& path, const std::string& top
 
 std::vector<bool> ForEachTopicRow(const std::string& path, const std::string& topic,
                                   const std::vector<FieldRequest>& fields,
-                                  const UlogProgress& progress, const TopicRowCallback& on_row) {
+                                  const UlogProgress& progress, const TopicRowCallback& on_row,
+                                  std::vector<std::string>* scan_notes) {
   const TopicSelector selector = ParseTopicSelector(path, topic);
   FieldCollector collector(path, topic, selector, fields, on_row);
   const UlogInfo info = ScanUlog(path, &collector, progress);
@@ -118,20 +121,66 @@ std::vector<bool> ForEachTopicRow(const std::string& path, const std::string& to
                     collector.matched() ? "the topic has no data messages" : "no such topic",
                     available.empty() ? "none" : available));
   }
+  if (scan_notes != nullptr)
+    scan_notes->insert(scan_notes->end(), info.notes.begin(), info.notes.end());
   return collector.present();
 }
 
 TopicTable ReadTopicFields(const std::string& path, const std::string& topic,
-                           const std::vector<FieldRequest>& fields, const UlogProgress& progress) {
+                           const std::vector<FieldRequest>& fields, const UlogProgress& progress,
+                           std::vector<std::string>* scan_notes) {
   TopicTable table;
   table.topic = topic;
   for (const FieldRequest& f : fields) table.fields.push_back(f.name);
-  table.present =
-      ForEachTopicRow(path, topic, fields, progress, [&table](uint64_t t_us, const double* values) {
+  table.present = ForEachTopicRow(
+      path, topic, fields, progress,
+      [&table](uint64_t t_us, const double* values) {
         table.t_us.push_back(t_us);
         table.values.insert(table.values.end(), values, values + table.fields.size());
-      });
+      },
+      scan_notes);
   return table;
+}
+
+void DroppedMessages::Add(const std::string& reason, uint64_t index) {
+  for (Count& c : counts_) {
+    if (c.reason == reason) {
+      ++c.count;
+      return;
+    }
+  }
+  counts_.push_back({reason, 1, index});
+}
+
+bool DroppedMessages::DropNotIncreasing(int64_t t_ns, std::optional<int64_t> previous_ns,
+                                        uint64_t index) {
+  if (!previous_ns || t_ns > *previous_ns) return false;
+  Add(t_ns == *previous_ns ? "with a repeated stamp (the first kept)"
+                           : "with a stamp earlier than the previous message (out of order)",
+      index);
+  return true;
+}
+
+void DroppedMessages::AppendNotes(const std::string& topic, std::vector<std::string>* notes) const {
+  if (notes == nullptr) return;
+  for (const Count& c : counts_) {
+    notes->push_back(fmt::format("{}: {} message(s) {} dropped (first: message {})", topic, c.count,
+                                 c.reason, c.first_index));
+  }
+}
+
+void RequireWithin(const std::string& path, const std::string& topic, uint64_t index,
+                   const std::string& field, double value, double max_abs,
+                   const std::string& unit) {
+  if (std::isnan(value) || std::isinf(value)) {
+    throw InputError(path, 0, field,
+                     fmt::format("topic {}, message {}: {} is not finite", topic, index, value));
+  }
+  if (!(std::abs(value) <= max_abs)) {
+    throw InputError(path, 0, field,
+                     fmt::format("topic {}, message {}: {:g} {} is outside {}", topic, index, value,
+                                 unit, limits::RangeText(-max_abs, max_abs, unit)));
+  }
 }
 
 }  // namespace mavloc::ulog

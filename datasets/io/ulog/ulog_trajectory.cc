@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "core/errors.h"
+#include "core/physical_limits.h"
 #include "datasets/io/ulog/ulog_format.h"
 #include "datasets/io/ulog/ulog_frames.h"
 #include "datasets/io/ulog/ulog_reader.h"
@@ -71,17 +72,69 @@ void Append(std::vector<std::string>* a, const std::vector<std::string>& b) {
   a->insert(a->end(), b.begin(), b.end());
 }
 
-bool QuaternionValid(const Eigen::Quaterniond& q) {
-  return q.coeffs().allFinite() && std::abs(q.norm() - 1.0) < 0.1;
-}
+// A PX4 q is unit length within this (float32 q, normalised by PX4 before logging).
+constexpr double kQuaternionNormTolerance = 0.1;
 
-// Keeps states with increasing stamps (a repeated stamp keeps the first message).
-void PushState(LogTrajectory* trajectory, const GroundTruthState& state,
-               const Covariance6* covariance) {
-  if (!trajectory->states.empty() && state.t_ns <= trajectory->states.back().t_ns) return;
-  trajectory->states.push_back(state);
-  if (covariance != nullptr) trajectory->covariance.push_back(*covariance);
-}
+// One topic's reading: its messages' index, what was dropped, and the refusals (ulog_reader.h).
+struct TopicReading {
+  const std::string& path;
+  const std::string& topic;
+  ulog::DroppedMessages dropped;
+
+  // false (dropped and counted) for a NaN q, PX4's "invalid/unknown"; throws for a finite q that
+  // is not a rotation.
+  bool QuaternionValid(const Eigen::Quaterniond& q, size_t index) {
+    if (!q.coeffs().allFinite()) {
+      dropped.Add("with a NaN or infinite q (invalid)", index);
+      return false;
+    }
+    if (!(std::abs(q.norm() - 1.0) <= kQuaternionNormTolerance)) {
+      throw InputError(path, 0, "q[0]",
+                       fmt::format("topic {}, message {}: q = ({:g}, {:g}, {:g}, {:g}) has norm "
+                                   "{:g}, not a unit quaternion (accepted within 1 +- {})",
+                                   topic, index, q.w(), q.x(), q.y(), q.z(), q.norm(),
+                                   kQuaternionNormTolerance));
+    }
+    return true;
+  }
+
+  // false (dropped and counted) for a NaN position, PX4's "invalid/unknown"; throws for a finite
+  // one beyond limits::kMaxPosition_m.
+  bool PositionValid(const Eigen::Vector3d& p, const std::string (&fields)[3], size_t index) {
+    if (!p.allFinite()) {
+      dropped.Add("with a NaN or infinite position (invalid)", index);
+      return false;
+    }
+    for (int k = 0; k < 3; ++k)
+      ulog::RequireWithin(path, topic, index, fields[k], p[k], limits::kMaxPosition_m, "m");
+    return true;
+  }
+
+  // A finite velocity beyond limits::kMaxSpeed_m_s is refused.
+  void CheckVelocity(const Eigen::Vector3d& v, const std::string (&fields)[3], size_t index) {
+    for (int k = 0; k < 3; ++k) {
+      if (std::isfinite(v[k]))
+        ulog::RequireWithin(path, topic, index, fields[k], v[k], limits::kMaxSpeed_m_s, "m/s");
+    }
+  }
+
+  // The message's stamp, or nullopt (dropped and counted) when it is corrupt.
+  std::optional<TimeNs> Stamp(std::optional<TimeNs> t_ns, size_t index) {
+    if (!t_ns) dropped.Add("with a corrupt timestamp_sample (negative or beyond the range)", index);
+    return t_ns;
+  }
+
+  // Keeps states with increasing stamps (a repeated stamp keeps the first message); returns
+  // whether the state was kept.
+  bool PushState(LogTrajectory* trajectory, const GroundTruthState& state, size_t index) {
+    const std::optional<TimeNs> previous =
+        trajectory->states.empty() ? std::nullopt
+                                   : std::optional<TimeNs>(trajectory->states.back().t_ns);
+    if (dropped.DropNotIncreasing(state.t_ns, previous, index)) return false;
+    trajectory->states.push_back(state);
+    return true;
+  }
+};
 
 void RequireStates(const LogTrajectory& trajectory, const std::string& path,
                    const std::string& topic, size_t messages) {
@@ -92,11 +145,12 @@ void RequireStates(const LogTrajectory& trajectory, const std::string& path,
 }
 
 LogTrajectory FromAttitude(const std::string& path, const std::string& topic,
-                           const UlogProgress& progress) {
+                           const UlogProgress& progress, std::vector<std::string>* notes) {
   std::vector<ulog::FieldRequest> requests;
   for (const std::string& n : Indexed("q", 4)) requests.push_back({n, true});
   requests.push_back({"timestamp_sample", false});
-  const ulog::TopicTable table = ulog::ReadTopicFields(path, topic, requests, progress);
+  const ulog::TopicTable table = ulog::ReadTopicFields(path, topic, requests, progress, notes);
+  TopicReading reading{path, topic, {}};
   const Columns c(table);
   LogTrajectory trajectory;
   trajectory.parent_frame = kWorldEnu;
@@ -104,25 +158,29 @@ LogTrajectory FromAttitude(const std::string& path, const std::string& topic,
   trajectory.has_position = false;  // attitude only: p = 0 is not a position
   for (size_t i = 0; i < table.rows(); ++i) {
     const Eigen::Quaterniond q_ned_frd = c.Quat(i);
-    if (!QuaternionValid(q_ned_frd)) continue;
-    const std::optional<TimeNs> t_ns = c.StampNs(i);
+    if (!reading.QuaternionValid(q_ned_frd, i)) continue;
+    const std::optional<TimeNs> t_ns = reading.Stamp(c.StampNs(i), i);
     if (!t_ns) continue;
     GroundTruthState state;
     state.t_ns = *t_ns;
     state.T_W_B.q = ulog::ToMavlocQuaternion(ulog::R_ENU_NED(), q_ned_frd);
-    PushState(&trajectory, state, nullptr);
+    reading.PushState(&trajectory, state, i);
   }
   RequireStates(trajectory, path, topic, table.rows());
+  reading.dropped.AppendNotes(topic, notes);
   return trajectory;
 }
 
 LogTrajectory FromLocalPosition(const std::string& path, const std::string& topic,
-                                const UlogProgress& progress) {
+                                const UlogProgress& progress, std::vector<std::string>* notes) {
   std::vector<ulog::FieldRequest> requests = {{"x"}, {"y"}, {"z"}};
   const std::vector<ulog::FieldRequest> optional = Optional(
       {"vx", "vy", "vz", "xy_valid", "z_valid", "v_xy_valid", "v_z_valid", "timestamp_sample"});
   requests.insert(requests.end(), optional.begin(), optional.end());
-  const ulog::TopicTable table = ulog::ReadTopicFields(path, topic, requests, progress);
+  const ulog::TopicTable table = ulog::ReadTopicFields(path, topic, requests, progress, notes);
+  TopicReading reading{path, topic, {}};
+  static const std::string kPosition[3] = {"x", "y", "z"};
+  static const std::string kVelocity[3] = {"vx", "vy", "vz"};
   const Columns c(table);
   const auto flag = [&](size_t row, const char* name) { return !c.Has(name) || c.Get(row, name); };
   LogTrajectory trajectory;
@@ -135,8 +193,15 @@ LogTrajectory FromLocalPosition(const std::string& path, const std::string& topi
     const Eigen::Vector3d p_ned = c.Vec3(i, "x", "y", "z");
     // A message is kept when its horizontal or its vertical position is valid: PX4 logs z alone
     // (baro) without a horizontal fix, keeping x = y at their last value.
-    if ((!flag(i, "xy_valid") && !flag(i, "z_valid")) || !p_ned.allFinite()) continue;
-    const std::optional<TimeNs> t_ns = c.StampNs(i);
+    // A finite value no MAV logs is refused even in a message flagged invalid (PX4 keeps stale
+    // values there, never 1e30).
+    if (p_ned.allFinite()) reading.PositionValid(p_ned, kPosition, i);
+    if (!flag(i, "xy_valid") && !flag(i, "z_valid")) {
+      reading.dropped.Add("with xy_valid and z_valid both false", i);
+      continue;
+    }
+    if (!reading.PositionValid(p_ned, kPosition, i)) continue;
+    const std::optional<TimeNs> t_ns = reading.Stamp(c.StampNs(i), i);
     if (!t_ns) continue;
     GroundTruthState state;
     state.t_ns = *t_ns;
@@ -146,12 +211,14 @@ LogTrajectory FromLocalPosition(const std::string& path, const std::string& topi
       if (!flag(i, "v_xy_valid") || !flag(i, "v_z_valid") || !v_ned.allFinite()) {
         all_velocities = false;
       } else {
+        reading.CheckVelocity(v_ned, kVelocity, i);
         state.v_W = ulog::NedToEnu(v_ned);
       }
     }
-    PushState(&trajectory, state, nullptr);
+    reading.PushState(&trajectory, state, i);
   }
   RequireStates(trajectory, path, topic, table.rows());
+  reading.dropped.AppendNotes(topic, notes);
   trajectory.has_velocity = all_velocities;
   if (!all_velocities) {
     for (GroundTruthState& s : trajectory.states) s.v_W.setZero();
@@ -181,7 +248,7 @@ bool EarthFrame(bool new_layout, double code, Eigen::Matrix3d* R_W_Wpx4, const c
 }
 
 LogTrajectory FromOdometry(const std::string& path, const std::string& topic,
-                           const UlogProgress& progress) {
+                           const UlogProgress& progress, std::vector<std::string>* notes) {
   std::vector<std::string> names = {"timestamp_sample",
                                     "pose_frame",
                                     "local_frame",
@@ -198,7 +265,9 @@ LogTrajectory FromOdometry(const std::string& path, const std::string& topic,
   Append(&names, Indexed("position_variance", 3));
   Append(&names, Indexed("orientation_variance", 3));
   Append(&names, Indexed("pose_covariance", 21));
-  const ulog::TopicTable table = ulog::ReadTopicFields(path, topic, Optional(names), progress);
+  const ulog::TopicTable table =
+      ulog::ReadTopicFields(path, topic, Optional(names), progress, notes);
+  TopicReading reading{path, topic, {}};
   const Columns c(table);
   const bool new_layout = c.Has("position[0]") && c.Has("pose_frame");
   const bool old_layout = c.Has("x") && c.Has("local_frame");
@@ -207,12 +276,14 @@ LogTrajectory FromOdometry(const std::string& path, const std::string& topic,
                      "not a PX4 odometry topic: expected position[3], q[4], pose_frame "
                      "(PX4 >= 1.14) or x, y, z, q[4], local_frame (older)");
   }
-  const std::string p0 = new_layout ? "position[0]" : "x";
-  const std::string p1 = new_layout ? "position[1]" : "y";
-  const std::string p2 = new_layout ? "position[2]" : "z";
-  const std::string v0 = new_layout ? "velocity[0]" : "vx";
-  const std::string v1 = new_layout ? "velocity[1]" : "vy";
-  const std::string v2 = new_layout ? "velocity[2]" : "vz";
+  const std::string p_fields[3] = {new_layout ? "position[0]" : "x",
+                                   new_layout ? "position[1]" : "y",
+                                   new_layout ? "position[2]" : "z"};
+  const std::string v_fields[3] = {new_layout ? "velocity[0]" : "vx",
+                                   new_layout ? "velocity[1]" : "vy",
+                                   new_layout ? "velocity[2]" : "vz"};
+  const std::string &p0 = p_fields[0], &p1 = p_fields[1], &p2 = p_fields[2];
+  const std::string &v0 = v_fields[0], &v1 = v_fields[1], &v2 = v_fields[2];
   const bool velocity_fields = c.Has(v0) && c.Has("velocity_frame");
   const bool covariance_fields =
       new_layout ? c.Has("position_variance[0]") && c.Has("orientation_variance[0]")
@@ -240,8 +311,8 @@ LogTrajectory FromOdometry(const std::string& path, const std::string& topic,
     }
     const Eigen::Vector3d p = c.Vec3(i, p0, p1, p2);
     const Eigen::Quaterniond q = c.Quat(i);
-    if (!p.allFinite() || !QuaternionValid(q)) continue;
-    const std::optional<TimeNs> t_ns = c.StampNs(i);
+    if (!reading.PositionValid(p, p_fields, i) || !reading.QuaternionValid(q, i)) continue;
+    const std::optional<TimeNs> t_ns = reading.Stamp(c.StampNs(i), i);
     if (!t_ns) continue;
     GroundTruthState state;
     state.t_ns = *t_ns;
@@ -253,6 +324,7 @@ LogTrajectory FromOdometry(const std::string& path, const std::string& topic,
       // 3 FRD body.
       const int ned = new_layout ? 1 : 0;
       const int frd = new_layout ? 2 : 1;
+      reading.CheckVelocity(v, v_fields, i);
       if (!v.allFinite()) {
         all_velocities = false;
       } else if (vframe == 3) {
@@ -295,11 +367,10 @@ LogTrajectory FromOdometry(const std::string& path, const std::string& topic,
         all_covariances = false;
       }
     }
-    const size_t before = trajectory.states.size();
-    PushState(&trajectory, state, nullptr);
-    if (trajectory.states.size() > before) covariances.push_back(cov);
+    if (reading.PushState(&trajectory, state, i)) covariances.push_back(cov);
   }
   RequireStates(trajectory, path, topic, table.rows());
+  reading.dropped.AppendNotes(topic, notes);
   trajectory.has_velocity = all_velocities;
   if (!all_velocities) {
     for (GroundTruthState& s : trajectory.states) s.v_W.setZero();
@@ -310,7 +381,8 @@ LogTrajectory FromOdometry(const std::string& path, const std::string& topic,
 
 }  // namespace
 
-LogTrajectory ReadUlogTrajectory(const LogTopicSpec& spec, const UlogProgress& progress) {
+LogTrajectory ReadUlogTrajectory(const LogTopicSpec& spec, const UlogProgress& progress,
+                                 std::vector<std::string>* notes) {
   ulog::TopicSelector selector = ulog::ParseTopicSelector(spec.path, spec.topic);
   // The instance comes from the topic's ".N" suffix or, without one, from spec.instance.
   std::string topic = spec.topic;
@@ -320,14 +392,14 @@ LogTrajectory ReadUlogTrajectory(const LogTopicSpec& spec, const UlogProgress& p
   }
   LogTrajectory trajectory;
   if (selector.name == "vehicle_attitude" || selector.name == "vehicle_attitude_groundtruth") {
-    trajectory = FromAttitude(spec.path, topic, progress);
+    trajectory = FromAttitude(spec.path, topic, progress, notes);
   } else if (selector.name == "vehicle_local_position" ||
              selector.name == "vehicle_local_position_groundtruth") {
-    trajectory = FromLocalPosition(spec.path, topic, progress);
+    trajectory = FromLocalPosition(spec.path, topic, progress, notes);
   } else if (selector.name == "vehicle_odometry" || selector.name == "vehicle_visual_odometry" ||
              selector.name == "vehicle_mocap_odometry" || selector.name == "estimator_odometry" ||
              selector.name == "estimator_visual_odometry_aligned") {
-    trajectory = FromOdometry(spec.path, topic, progress);
+    trajectory = FromOdometry(spec.path, topic, progress, notes);
   } else {
     throw InputError(spec.path, 0, spec.topic,
                      "not a supported ULog trajectory topic (vehicle_attitude, "
