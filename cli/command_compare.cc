@@ -113,9 +113,14 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
     if (args->reference.empty()) RequireUsableGroundTruth(dataset);
     std::optional<ComparisonReference> reference;
     if (!args->reference.empty() && !reference_is_estimator) {
-      if (const auto log_topic = ParseLogTopicSpec(args->reference))
-        reference = ReferenceFromLogTrajectory(args->reference, ReadLogTrajectory(*log_topic));
-      else if (!std::filesystem::exists(args->reference))
+      if (const auto log_topic = ParseLogTopicSpec(args->reference)) {
+        const LogTrajectory trajectory = ReadLogTrajectory(*log_topic);
+        reference = ReferenceFromLogTrajectory(args->reference, trajectory);
+        // What the log reader dropped (ULog: repeated or earlier stamps, PX4 "invalid" markers,
+        // truncated or corrupt messages), one stdout line each, as `log import` prints them.
+        for (const std::string& note : trajectory.notes)
+          std::printf("note: %s: %s\n", log_topic->path.c_str(), note.c_str());
+      } else if (!std::filesystem::exists(args->reference))
         throw InputError(args->reference, 0, "--reference",
                          "neither an estimator name (see `mavloc list`) nor an existing file");
       else

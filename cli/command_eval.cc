@@ -171,6 +171,16 @@ void AddRowFixes(const TrajectoryReadReport& report, std::vector<std::string>* n
   if (!fixes.empty()) notes->push_back(fixes);
 }
 
+// A trajectory for --gt or --est, with the readers' notes added to `notes` (printed with the row
+// fixes once everything is evaluated; a LOG:TOPIC's log reader notes included).
+LoadedTrajectory ReadEvalTrajectory(const std::string& path, const TrajectoryReadOptions& options,
+                                    std::vector<std::string>* notes) {
+  LoadedTrajectory loaded = ReadTrajectory(path, options);
+  AddRowFixes(loaded.report, notes);
+  notes->insert(notes->end(), loaded.report.log_notes.begin(), loaded.report.log_notes.end());
+  return loaded;
+}
+
 std::vector<StampedPose> AlignedEstimate(const std::vector<StampedPose>& estimate,
                                          const TrajectoryEvaluation& e, double time_offset_s) {
   std::vector<StampedPose> out;
@@ -254,9 +264,8 @@ void Run(const Args& a) {
   truth_options.format = FormatOption(a.gt_format, "--gt-format");
   truth_options.sort = a.sort;
   truth_options.times_path = a.gt_times;
-  const LoadedTrajectory truth = ReadTrajectory(a.gt, truth_options);
   std::vector<std::string> notes;  // printed once everything is evaluated
-  AddRowFixes(truth.report, &notes);
+  const LoadedTrajectory truth = ReadEvalTrajectory(a.gt, truth_options, &notes);
   if (truth.states.size() < 2)
     throw InputError(a.gt, 0, "",
                      fmt::format("the ground truth has {} pose{}: a trajectory evaluation needs at "
@@ -291,8 +300,7 @@ void Run(const Args& a) {
     const std::vector<std::string> files =
         input.is_folder ? RunFiles(input.source) : std::vector<std::string>{input.source};
     for (const auto& file : files) {
-      LoadedTrajectory loaded = ReadTrajectory(file, options);
-      AddRowFixes(loaded.report, &notes);
+      LoadedTrajectory loaded = ReadEvalTrajectory(file, options, &notes);
       input.runs.emplace_back(file, std::move(loaded));
     }
     inputs.push_back(std::move(input));

@@ -180,8 +180,8 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
       options.setup_lines = args->setup;
       CheckSlurmOptions(options);  // before the folder is touched
       // The results folder is written whole (cli/output_folder.h): a new or empty folder, or the
-      // results folder of an earlier --slurm (its report.md marks it), never another folder.
-      StagedFolder results(args->out, FolderKind::kReport);
+      // results folder of an earlier --slurm (slurm.json, sweep.sbatch), never another folder.
+      StagedFolder results(args->out, FolderKind::kSlurmResults);
       options.write_dir = results.path();
       const SlurmFiles files = WriteSlurmFiles(grid, options);
       results.Commit();

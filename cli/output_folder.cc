@@ -28,9 +28,16 @@ bool IsMavlocDataset(const fs::path& folder) {
          (fs::exists(folder / "scenario.yaml") || fs::exists(folder / "import.yaml"));
 }
 
+bool IsSlurmResults(const fs::path& folder) {
+  return fs::exists(folder / "slurm.json") && fs::exists(folder / "sweep.sbatch");
+}
+
+// A Slurm results folder holds the shards' partials and the merged report/: a report command
+// pointed at it must not replace it.
 bool IsReport(const fs::path& folder) {
-  return fs::exists(folder / "report.json") || fs::exists(folder / "report.md") ||
-         fs::exists(folder / "eval.json");
+  return !IsSlurmResults(folder) &&
+         (fs::exists(folder / "report.json") || fs::exists(folder / "report.md") ||
+          fs::exists(folder / "eval.json"));
 }
 
 }  // namespace
@@ -56,6 +63,11 @@ StagedFolder::StagedFolder(const std::string& target, FolderKind kind) : target_
       throw InputError(target, 0, "",
                        "folder is not empty and is not a mavloc report (report.json, report.md "
                        "or eval.json): not replaced; choose a new or empty folder");
+    if (!empty && kind == FolderKind::kSlurmResults && !IsSlurmResults(path))
+      throw InputError(target, 0, "",
+                       "folder is not empty and is not the results folder of an earlier "
+                       "`mavloc sweep --slurm` (slurm.json, sweep.sbatch): not replaced; choose a "
+                       "new or empty folder");
   }
   staging_ = StagingPathFor(target);
   interrupt_token_ = RegisterTemporaryPath(staging_);

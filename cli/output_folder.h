@@ -13,7 +13,9 @@ enum class FolderKind {
   kDataset,  // written by `mavloc simulate`: replaces a mavloc dataset (mav0/ + scenario.yaml or
              // import.yaml) or an empty folder
   kReport,   // compare, eval, repro, obstacles: replaces a report (report.json, report.md or
-             // eval.json) or an empty folder
+             // eval.json) or an empty folder; never a Slurm results folder
+  kSlurmResults,  // sweep --slurm: replaces the results folder of an earlier --slurm (slurm.json
+                  // and sweep.sbatch) or an empty folder
 };
 
 // "<target>.tmp-<pid>" for the target written with a trailing "/" removed: where StagedFolder and

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <filesystem>
 #include <fstream>
@@ -130,7 +131,12 @@ LogTrajectory ReadLogTrajectory(const LogTopicSpec& spec) {
   // The ULog reader names later instances of a multi-instance topic "name.N".
   LogTopicSpec ulog = spec;
   if (spec.instance > 0) ulog.topic += "." + std::to_string(spec.instance);
-  return ReadUlogTrajectory(ulog, UlogProgressLine(spec.path));
+  std::vector<std::string> notes;
+  LogTrajectory trajectory = ReadUlogTrajectory(ulog, UlogProgressLine(spec.path), &notes);
+  for (std::string& note : notes)  // the reader may repeat a scan note; keep each once
+    if (std::find(trajectory.notes.begin(), trajectory.notes.end(), note) == trajectory.notes.end())
+      trajectory.notes.push_back(std::move(note));
+  return trajectory;
 }
 
 }  // namespace mavloc

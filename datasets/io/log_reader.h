@@ -58,6 +58,11 @@ struct LogTrajectory {
   // Per state, the pose covariance in [p; theta] order (ROS order: x y z rotX rotY rotZ), or empty
   // when the messages carry none (or carry only zeros / -1 "unknown").
   std::vector<Eigen::Matrix<double, 6, 6>> covariance;
+  // What the reader dropped or skipped, one line each without a "note: " prefix: for ULog the
+  // counted drops (repeated or earlier stamps, PX4's "invalid" markers, corrupt stamps) and the
+  // scan's notes on truncated or corrupt messages; empty for a bag (its reader refuses instead of
+  // dropping, and skips only a /tf transform republished unchanged).
+  std::vector<std::string> notes;
 };
 
 // "LOG:TOPIC" (e.g. "flight.ulg:vehicle_attitude", "flight.ulg:vehicle_imu:1" for the second

@@ -357,14 +357,23 @@ std::string Why(const ScenarioResult& s, const RowResult& other, const WinCount&
   const RowResult& smoother = s.rows.front();
   std::vector<std::string> reasons;
   if (scenario == "euroc-laser") {
+    // A run whose d RMSE exceeds 1 m (about the distance to the plane) has no estimate left.
+    constexpr double kDivergedDRmseM = 1.0;
+    const std::vector<double> smoother_d =
+        smoother.Collect([](const RunMetrics& r) { return Rmse(r, "d"); });
+    std::vector<double> recovered;
+    for (const double d : smoother_d)
+      if (d <= kDivergedDRmseM) recovered.push_back(d);
+    std::sort(recovered.begin(), recovered.end());
     reasons.push_back(fmt::format(
         "on the real, biased EuRoC IMU the laser-ekf seed diverges after about 11 s (mean d RMSE "
-        "{} m; the smoother's {} m): the paper's filter has no bias states, and the smoother, "
-        "initialised from the diverged modes, cannot recover from a diverged seed",
+        "{} m): the paper's filter has no bias states; the smoother, initialised from the diverged "
+        "modes, recovers through its growing window (option grow_window_s) in {} of {} runs "
+        "(d RMSE at most {} m; median {} m) and stays diverged in the others",
         FormatNumber(MeanOfFinite(other.Collect([](const RunMetrics& r) { return Rmse(r, "d"); })),
                      1),
-        FormatNumber(
-            MeanOfFinite(smoother.Collect([](const RunMetrics& r) { return Rmse(r, "d"); })), 1)));
+        recovered.size(), smoother_d.size(), FormatNumber(kDivergedDRmseM, 0),
+        recovered.empty() ? std::string("-") : FormatNumber(recovered[recovered.size() / 2], 3)));
   }
   if (scenario == "three-point-hover" &&
       (w.lost.count("attitude") || w.lost.count("roll") || w.lost.count("pitch"))) {

@@ -185,7 +185,7 @@ SlurmFiles WriteSlurmFiles(const SweepGrid& grid, const SlurmOptions& options) {
                           {"submissions", nlohmann::json::array()}};
   WriteFileAtomically(out + "/slurm.json", state.dump(2) + "\n");
   WriteFileAtomically(
-      out + "/report.md",
+      out + "/README.md",
       fmt::format("# Sweep on Slurm (mavloc sweep --slurm)\n\n"
                   "Grid fingerprint {}: {} units in {} shards (grid.json). The job array "
                   "(sweep.sbatch) writes partials/, the merge job (merge.sbatch) the report to "

@@ -49,9 +49,10 @@ struct SlurmFiles {
   std::string array_script, merge_script;
 };
 
-// Writes grid.json, sweep.sbatch, merge.sbatch, slurm.json, report.md (what the folder is and where
-// the merged report will be: it marks the folder as a mavloc report folder, which a later
-// `--slurm --out` into it may replace) and the partials/ and logs/ folders. Checks the options
+// Writes grid.json, sweep.sbatch, merge.sbatch, slurm.json (slurm.json and sweep.sbatch mark the
+// folder as a Slurm results folder, which a later `--slurm --out` into it may replace, a report
+// command not: cli/output_folder.h), README.md (what the folder is and where the merged report will
+// be) and the partials/ and logs/ folders. Checks the options
 // first (CheckSlurmOptions).
 SlurmFiles WriteSlurmFiles(const SweepGrid& grid, const SlurmOptions& options);
 

@@ -144,7 +144,13 @@ std::vector<Case> Cases(const std::string& root) {
        euroc + " && " + testing::CliPath() + " " + sweep + "--shard 1/1 --out parts",
        "sweep-merge parts --out d",
        {"d", "not a mavloc report"}},
-      {"slurm_out_foreign", euroc, slurm + "--out d", {"d", "not a mavloc report"}},
+      {"slurm_out_foreign", euroc, slurm + "--out d", {"d", "not the results folder"}},
+      // A Slurm results folder (partials, the merged report) is not a report to replace.
+      {"report_into_slurm_results",
+       testing::CliPath() + " " + slurm + "--out d",
+       "compare --scenario mav-figure-eight --duration 3 --estimators imu-dead-reckoning "
+       "--report d",
+       {"d", "not a mavloc report"}},
       // Slurm options go into #SBATCH lines: strict formats.
       {"slurm_time_newline", "", slurm + "--time '01:00:00\ntouch pwned' --out sl", {"--time"}},
       {"slurm_time_text", "", slurm + "--time soon --out sl", {"--time", "soon"}},

@@ -284,6 +284,39 @@ TEST(HeldoutUlog, RealLogsImportWithoutDroppedSamples) {
   }
 }
 
+// `compare --reference LOG:TOPIC` and `eval --gt/--est LOG:TOPIC` read through ReadLogTrajectory,
+// whose LogTrajectory carries the ULog reader's notes: compare prints them on stdout ("note: "),
+// eval with its other deferred notes; an eval that is refused keeps its one stderr line. The
+// sample logs have no full-pose topic (vehicle_odometry), so eval on them is always refused.
+TEST(HeldoutUlog, LogTopicTrajectoriesCarryTheReadersNotes) {
+  REQUIRE_SHARED_DATA();
+  const std::string drop =
+      "f.ulg: vehicle_attitude: 1 message(s) with a stamp earlier than the previous message";
+  const std::string compare =
+      "compare --dataset d --estimators gravity-ekf --reference f.ulg:vehicle_attitude --report r";
+  for (const bool mutated : {true, false}) {
+    SCOPED_TRACE(mutated ? "stamp 1 ms back" : "real log");
+    const fs::path dir = MakeTempDir();
+    std::string bytes = testing::ReadFileBytes(SmallUlog());
+    if (mutated) SetStamp("vehicle_attitude", 10, -1000)(SmallUlog(), &bytes);
+    testing::WriteFileBytes(dir / "f.ulg", bytes);
+    ASSERT_EQ(RunIn(dir, "log import f.ulg --imu sensor_combined --out d").exit_code, 0);
+    const Outcome o = RunIn(dir, compare);
+    EXPECT_EQ(o.exit_code, 0) << o.out << o.err;
+    if (mutated) {
+      EXPECT_NE(o.out.find("note: " + drop), std::string::npos) << o.out;
+      EXPECT_NE(o.out.find("dropped (first: message 10)"), std::string::npos) << o.out;
+    } else {
+      EXPECT_EQ(o.out.find("note:"), std::string::npos) << o.out;
+      EXPECT_EQ(o.out.find("dropped"), std::string::npos) << o.out;
+    }
+    // eval needs full poses: refused in one stderr line, without the reader's notes.
+    const Outcome e = RunIn(dir, "eval --gt f.ulg:vehicle_attitude --est f.ulg:vehicle_attitude");
+    ExpectOneLineError(e, {"f.ulg", "carries no position"});
+    EXPECT_EQ(e.out.find("dropped"), std::string::npos) << e.out;
+  }
+}
+
 // The first `rows` data rows of V1_01_easy's ground truth (TUM, with its comment line).
 void WriteTruth(const fs::path& path, size_t rows) {
   const std::vector<std::string> lines = Lines(testing::ReadFileBytes(EurocTruth()));

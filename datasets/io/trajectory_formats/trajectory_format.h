@@ -72,6 +72,9 @@ struct TrajectoryReadReport {
   bool has_velocity = false;  // v_W read from the file
   bool has_biases = false;    // b_g, b_a read from the file
   bool had_bom = false, had_crlf = false;
+  // A LOG:TOPIC: the log reader's notes (ULog: dropped repeated or earlier stamps and PX4 "invalid"
+  // markers, truncated or corrupt messages), each "LOG: note".
+  std::vector<std::string> log_notes;
 };
 
 struct LoadedTrajectory {

@@ -214,6 +214,8 @@ LoadedTrajectory ReadLogTopicTrajectory(const LogTopicSpec& spec, const std::str
       trajectory.type + " " + trajectory.parent_frame + " -> " + trajectory.child_frame;
   out.report.rows = trajectory.states.size();
   out.report.has_velocity = trajectory.has_velocity;
+  for (const std::string& note : trajectory.notes)
+    out.report.log_notes.push_back(spec.path + ": " + note);
   return out;
 }
 
