@@ -608,6 +608,54 @@ TEST(RosbagErrors, CorruptLengthsAndPositionsAreRefusedBeforeRosbagReadsThem) {
   expect_refused(long_field, "the record header at byte 13 is corrupt (a field runs past");
 }
 
+// Found by fuzz_rosbag: rosbag read the message record at an index entry's offset without checking
+// it against the chunk's size (SEGV in rosbag::Bag::readHeaderFromBuffer). The record walk checks
+// every index entry against its chunk (and, in an uncompressed chunk, the message record there).
+TEST(RosbagErrors, IndexEntriesOutsideTheirChunkAreRefused) {
+  const std::string dir = testing::MakeTempDir();
+  const std::string good = dir + "/good.bag";
+  WriteTestBag(good, rosbag::compression::Uncompressed);
+  ASSERT_TRUE(ScanBagRecords(good).problem.empty());
+  // The first index-data record (op 0x04): walk the records <uint32 hl><header><uint32 dl><data>.
+  const std::string bytes = FileBytes(good);
+  const auto u32 = [&](uint64_t at) {
+    uint32_t v = 0;
+    for (int i = 0; i < 4; ++i)
+      v |= static_cast<uint32_t>(static_cast<uint8_t>(bytes[at + i])) << (8 * i);
+    return v;
+  };
+  uint64_t at = 13, entries = 0;
+  while (at + 8 < bytes.size() && entries == 0) {
+    const uint32_t header_len = u32(at);
+    const std::string header = bytes.substr(at + 4, header_len);
+    const uint32_t data_len = u32(at + 4 + header_len);
+    if (header.find(std::string("op=\x04", 4)) != std::string::npos) entries = at + 8 + header_len;
+    at += 8 + uint64_t{header_len} + data_len;
+  }
+  ASSERT_GT(entries, 0u) << "no index-data record";
+  const auto expect_refused = [&](const std::string& path, const std::string& expected) {
+    try {
+      ReadRosbagImu(path, "/imu");
+      FAIL() << "no error for " << expected;
+    } catch (const InputError& error) {
+      const std::string what = error.what();
+      EXPECT_NE(what.find(path), std::string::npos) << what;
+      EXPECT_NE(what.find(expected), std::string::npos) << what;
+    }
+  };
+  // The first entry's offset (after its uint32 sec, uint32 nsec) far beyond the chunk.
+  const std::string beyond = dir + "/beyond.bag";
+  fs::copy_file(good, beyond);
+  PatchUint32(beyond, entries + 8, 0x7FFFFFF0u);
+  expect_refused(beyond, "points at a message beyond the end of its chunk");
+  // Inside the chunk but not at a message record: the "header length" read there runs past it.
+  const std::string inside = dir + "/inside.bag";
+  fs::copy_file(good, inside);
+  PatchUint32(inside, entries + 8, u32(entries + 8) + 1);
+  const BagRecordScan scan = ScanBagRecords(inside);
+  EXPECT_NE(scan.problem.find("the index record at byte"), std::string::npos) << scan.problem;
+}
+
 TEST(RosbagErrors, TruncatedBagNamesTheByteOffset) {
   const std::string dir = testing::MakeTempDir();
   const std::string path = dir + "/full.bag";

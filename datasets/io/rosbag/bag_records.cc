@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -63,6 +64,49 @@ bool ReadUint32(std::ifstream& in, uint32_t* value) {
   return true;
 }
 
+// The chunk the index-data records after it point into (bag format 2.0 writes a chunk, then one
+// index-data record per connection in it).
+struct ChunkSpan {
+  uint64_t data_start = 0;  // file offset of the chunk's data
+  uint64_t size = 0;        // uncompressed size
+  bool compressed = false;
+};
+
+// Checks every entry (uint32 sec, uint32 nsec, uint32 offset) of an index-data record at
+// `entries_start` against its chunk: rosbag reads the message record at the entry's offset in the
+// chunk's uncompressed data without checking it against the chunk's size (found by fuzz_rosbag: a
+// SEGV in rosbag::Bag::readHeaderFromBuffer). In an uncompressed chunk the message record itself
+// (<uint32 header_len><header><uint32 data_len><data>) must fit, and its header fields too; in a
+// compressed one only the offset can be checked here. Returns the problem, or "".
+std::string CheckIndexEntries(std::ifstream& in, uint64_t record_offset, uint64_t entries_start,
+                              uint64_t count, const ChunkSpan& chunk) {
+  std::vector<uint8_t> header_bytes;
+  for (uint64_t i = 0; i < count; ++i) {
+    in.seekg(static_cast<std::streamoff>(entries_start + i * kIndexEntryBytes + 8));
+    uint32_t at = 0;
+    if (!ReadUint32(in, &at))
+      return fmt::format("the index record at byte {} is cut off", record_offset);
+    const auto bad = [&](const char* what) {
+      return fmt::format(
+          "the index record at byte {} points at a message {} of its chunk ({} bytes; entry {}, "
+          "offset {})",
+          record_offset, what, chunk.size, i, at);
+    };
+    if (uint64_t{at} + 8 > chunk.size) return bad("beyond the end");
+    if (chunk.compressed) continue;
+    in.seekg(static_cast<std::streamoff>(chunk.data_start + at));
+    uint32_t header_len = 0, data_len = 0;
+    if (!ReadUint32(in, &header_len) || uint64_t{at} + 8 + header_len > chunk.size)
+      return bad("whose header runs past the end");
+    header_bytes.resize(header_len);
+    in.read(reinterpret_cast<char*>(header_bytes.data()), header_len);
+    if (!in || !HeaderFieldsFit(header_bytes)) return bad("with a corrupt header");
+    if (!ReadUint32(in, &data_len) || uint64_t{at} + 8 + header_len + data_len > chunk.size)
+      return bad("whose data run past the end");
+  }
+  return "";
+}
+
 }  // namespace
 
 BagRecordScan ScanBagRecords(const std::string& path) {
@@ -78,6 +122,7 @@ BagRecordScan ScanBagRecords(const std::string& path) {
   std::vector<uint8_t> header_bytes;
   std::set<uint64_t> record_starts, chunk_starts;
   std::vector<std::pair<uint64_t, uint64_t>> chunk_pointers;  // (chunk-info offset, chunk_pos)
+  std::optional<ChunkSpan> last_chunk;
   while (offset < scan.file_bytes) {
     scan.end_offset = offset;
     record_starts.insert(offset);
@@ -135,6 +180,7 @@ BagRecordScan ScanBagRecords(const std::string& path) {
       ++scan.chunks;
       ++scan.chunks_by_compression[compression];
       chunk_starts.insert(offset);
+      last_chunk = ChunkSpan{offset + 8 + uint64_t{header_len}, size, compression != "none"};
     } else if (opcode == kOpChunkInfo) {
       uint64_t chunk_pos = 0;
       if (HeaderInteger(header, "chunk_pos", 8, &chunk_pos))
@@ -145,6 +191,14 @@ BagRecordScan ScanBagRecords(const std::string& path) {
         scan.problem = fmt::format("the index record at byte {} counts {} entries in {} bytes",
                                    offset, count, data_len);
         return scan;
+      }
+      uint64_t version = 0;
+      if (count > 0 && HeaderInteger(header, "ver", 4, &version) && version == 1) {
+        scan.problem =
+            last_chunk ? CheckIndexEntries(in, offset, offset + 8 + uint64_t{header_len}, count,
+                                           *last_chunk)
+                       : fmt::format("the index record at byte {} comes before any chunk", offset);
+        if (!scan.problem.empty()) return scan;
       }
     }
     offset += 8 + uint64_t{header_len} + data_len;
