@@ -1,7 +1,11 @@
 #include "core/dataset.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <iterator>
+
+#include "core/errors.h"
 
 namespace mavloc {
 
@@ -20,6 +24,16 @@ auto FirstNotBefore(const std::vector<GroundTruthState>& truth, TimeNs t_ns) {
 }
 
 }  // namespace
+
+std::optional<double> ScenarioNumber(const Dataset& dataset, const std::string& key) {
+  const auto it = dataset.scenario_info.find(key);
+  if (it == dataset.scenario_info.end()) return std::nullopt;
+  char* end = nullptr;
+  const double value = std::strtod(it->second.c_str(), &end);
+  if (end == it->second.c_str() || !std::isfinite(value))
+    throw InputError("scenario.yaml", 0, key, "'" + it->second + "' is not a finite number");
+  return value;
+}
 
 const GroundTruthState& NearestTruth(const std::vector<GroundTruthState>& truth, TimeNs t_ns) {
   const auto it = FirstNotBefore(truth, t_ns);

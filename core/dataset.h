@@ -127,6 +127,12 @@ struct Dataset {
   const CameraSensor* Camera(const std::string& camera_name) const;
 };
 
+// The leading number of a scenario.yaml value ("1 per bearing angle (...)" -> 1); nullopt only when
+// the key is absent. Text that does not start with a finite number throws InputError naming the
+// key (ReadScenarioInfo has already checked the values of a file with their lines; this catches
+// in-memory datasets), never "not stated".
+std::optional<double> ScenarioNumber(const Dataset& dataset, const std::string& key);
+
 // The ground-truth row nearest to t_ns (rows are time-ordered, at least one).
 const GroundTruthState& NearestTruth(const std::vector<GroundTruthState>& truth, TimeNs t_ns);
 

@@ -65,6 +65,17 @@ void WriteFileBytes(const std::string& path, const std::string& bytes) {
   out << bytes;
 }
 
+CliRun RunCliIn(const std::string& dir, const std::string& args) {
+  // RunCommand merges stderr into stdout after the command: the group keeps them apart.
+  const std::string out_file = dir + "/stdout.txt", err_file = dir + "/stderr.txt";
+  const CommandResult r = RunCommand("cd " + dir + " && { MAVLOC_FIGURES=0 " + CliPath() + " " +
+                                     args + " >stdout.txt 2>stderr.txt; }");
+  CliRun run{r.exit_code, ReadFileBytes(out_file), ReadFileBytes(err_file)};
+  std::filesystem::remove(out_file);
+  std::filesystem::remove(err_file);
+  return run;
+}
+
 std::string MakeTempDir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   // Outside a test (SetUpTestSuite) the folder is per process: ctest runs the tests of one suite

@@ -40,6 +40,15 @@ struct CommandResult {
 // Runs a shell command (with MAVLOC_QUIET=1) and captures its output.
 CommandResult RunCommand(const std::string& command);
 
+// Runs `mavloc ARGS` in `dir` (MAVLOC_QUIET=1, MAVLOC_FIGURES=0) with stdout and stderr kept
+// apart (their files in `dir` are removed afterwards), for the bad-input suites that count stderr
+// lines.
+struct CliRun {
+  int exit_code = -1;
+  std::string out, err;
+};
+CliRun RunCliIn(const std::string& dir, const std::string& args);
+
 }  // namespace mavloc::testing
 
 // Skips the test with a message when ../shared/data (the real logs) is absent.

@@ -20,16 +20,12 @@ namespace mavloc {
 
 namespace {
 
-// The leading number of a scenario.yaml value ("1 per bearing angle (...)" -> 1); nullopt only
-// when the key is absent. ReadScenarioInfo has checked the values of a file with their lines; text
-// that does not parse is refused here too, never taken as "not stated".
-std::optional<double> ScenarioNumber(const Dataset& dataset, const std::string& key) {
-  auto it = dataset.scenario_info.find(key);
-  if (it == dataset.scenario_info.end()) return std::nullopt;
-  char* end = nullptr;
-  const double value = std::strtod(it->second.c_str(), &end);
-  if (end == it->second.c_str() || !std::isfinite(value) || value < 0.0)
-    throw InputError("scenario.yaml", 0, key, "'" + it->second + "' is not a finite number >= 0");
+// A scenario.yaml noise (core/dataset.h ScenarioNumber): also >= 0.
+std::optional<double> ScenarioNoise(const Dataset& dataset, const std::string& key) {
+  const std::optional<double> value = ScenarioNumber(dataset, key);
+  if (value && *value < 0.0)
+    throw InputError("scenario.yaml", 0, key,
+                     "'" + dataset.scenario_info.at(key) + "' is not a finite number >= 0");
   return value;
 }
 
@@ -427,20 +423,20 @@ SmootherProblemOptions SmootherEstimator::ProblemOptionsFor(const Dataset& datas
   // data get a tiny floor: exact measurements then dominate the IMU, whose discretisation (~1e-7
   // rad per frame interval on the simulator's splines) would otherwise pull the poses off.
   const double pixel = options_.GetDouble(
-      "pixel_sigma_px", ScenarioNumber(dataset, "pixel_noise_px")
-                            .value_or(ScenarioNumber(dataset, "corner_noise_px").value_or(1.0)));
+      "pixel_sigma_px", ScenarioNoise(dataset, "pixel_noise_px")
+                            .value_or(ScenarioNoise(dataset, "corner_noise_px").value_or(1.0)));
   o.pixel_sigma_px = std::max(pixel, 1e-3);
   const double bearing_deg = options_.GetDouble(
-      "bearing_sigma_deg", ScenarioNumber(dataset, "bearing_noise_deg").value_or(1.0));
+      "bearing_sigma_deg", ScenarioNoise(dataset, "bearing_noise_deg").value_or(1.0));
   o.bearing_sigma_rad = std::max(bearing_deg, 1e-4) * kDeg;
   const double laser_deg = options_.GetDouble(
-      "laser_sigma_deg", ScenarioNumber(dataset, "laser_noise_deg")
-                             .value_or(ScenarioNumber(dataset, "bearing_noise_deg").value_or(1.0)));
+      "laser_sigma_deg", ScenarioNoise(dataset, "laser_noise_deg")
+                             .value_or(ScenarioNoise(dataset, "bearing_noise_deg").value_or(1.0)));
   o.laser_sigma_rad = std::max(laser_deg, 1e-4) * kDeg;
   // Pixels when the camera has real intrinsics and no angular noise is stated; bearings otherwise.
   const bool has_intrinsics = !dataset.cameras.empty() && dataset.cameras.front().model.fu() > 2.0;
   o.features_as_bearings =
-      !has_intrinsics || ScenarioNumber(dataset, "bearing_noise_deg").has_value();
+      !has_intrinsics || ScenarioNoise(dataset, "bearing_noise_deg").has_value();
   o.laser_beam = BeamFromMap(dataset);
   o.estimate_plane = true;
 

@@ -22,18 +22,6 @@ struct PendingFrame {
   std::vector<TagPoseMeasurement> tags;
 };
 
-// A number scenario.yaml states (ReadScenarioInfo has checked it with its line); the fallback
-// only when the key is absent, never for text that does not parse.
-double ScenarioDouble(const Dataset& dataset, const std::string& key, double fallback) {
-  const auto it = dataset.scenario_info.find(key);
-  if (it == dataset.scenario_info.end()) return fallback;
-  char* end = nullptr;
-  const double value = std::strtod(it->second.c_str(), &end);
-  if (end == it->second.c_str() || !std::isfinite(value))
-    throw InputError("scenario.yaml", 0, key, "'" + it->second + "' is not a finite number");
-  return value;
-}
-
 }  // namespace
 
 TagEkfEstimator::TagEkfEstimator(const EstimatorOptions& options)
@@ -111,7 +99,7 @@ Estimate TagEkfEstimator::RunInWorld(const Dataset& dataset,
   ekf_options.compensate_delay = options_.GetBool("compensate_delay", true);
   ekf_options.gate_chi2 = options_.GetDouble("gate_chi2", ekf_options.gate_chi2);
   const double delay_s =
-      options_.GetDouble("delay_s", ScenarioDouble(dataset, "processing_delay_s", 0.0));
+      options_.GetDouble("delay_s", ScenarioNumber(dataset, "processing_delay_s").value_or(0.0));
   ekf_options.buffer_s = std::max(1.0, 2.0 * delay_s + 0.5);
   const bool use_tags = options_.GetBool("use_tags", true);
   const std::string init = InitMode(dataset);

@@ -149,22 +149,6 @@ const std::string kImport =
 const std::string kTagslam = "import-tagslam t --out out --camera cam0 --no-trajectories";
 const std::string kBagImport = "log import f.bag --imu /imu/data --out out";
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-CliRun RunIn(const fs::path& dir, const std::string& command) {
-  // RunCommand merges stderr into stdout after the command: the group keeps them apart.
-  const auto r = RunCommand("cd " + dir.string() + " && { MAVLOC_QUIET=1 " + CliPath() + " " +
-                            command + " >stdout.txt 2>stderr.txt; }");
-  CliRun run{r.exit_code, testing::ReadFileBytes(dir / "stdout.txt"),
-             testing::ReadFileBytes(dir / "stderr.txt")};
-  fs::remove(dir / "stdout.txt");
-  fs::remove(dir / "stderr.txt");
-  return run;
-}
-
 bool HasControlBytes(const std::string& text) {
   return std::any_of(text.begin(), text.end(), [](char c) {
     const auto u = static_cast<unsigned char>(c);
@@ -299,12 +283,12 @@ TEST_F(HeldoutRealLogs, UnmutatedCopiesLoad) {
         kImport + " --imu-noise a/imu.yaml --intrinsics a/camchain.yaml --target "
                   "a/target.yaml",
         kImport + " --intrinsics cam0=e/mav0/cam0/sensor.yaml", kTagslam}) {
-    const CliRun r = RunIn(dir, command);
+    const testing::CliRun r = testing::RunCliIn(dir, command);
     EXPECT_EQ(r.exit_code, 0) << command << "\n" << r.out << r.err;
     fs::remove_all(dir / "out");
   }
   WriteBagCopy(dir / "f.bag", [](uint64_t, std::string*, ros1::ImuMsg*) {});
-  const CliRun r = RunIn(dir, kBagImport);
+  const testing::CliRun r = testing::RunCliIn(dir, kBagImport);
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
 }
 
@@ -314,7 +298,7 @@ TEST_F(HeldoutRealLogs, AbsurdValuesAreRefusedWithFileLineAndField) {
     const fs::path dir = CaseDir(c.name);
     c.mutate(dir);
     if (::testing::Test::HasFatalFailure()) continue;
-    const CliRun r = RunIn(dir, c.command);
+    const testing::CliRun r = testing::RunCliIn(dir, c.command);
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_FALSE(HasControlBytes(r.err)) << r.err;
@@ -337,7 +321,7 @@ TEST_F(HeldoutRealLogs, CornerFileWithByteOrderMarkLoads) {
   const fs::path dir = CaseDir("corner_bom");
   const fs::path file = dir / "a/cam0" / kFirstCorners;
   testing::WriteFileBytes(file, "\xEF\xBB\xBF" + testing::ReadFileBytes(file));
-  const CliRun r = RunIn(dir, kImport);
+  const testing::CliRun r = testing::RunCliIn(dir, kImport);
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("cam0: 20 frames"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(dir / "out/mav0/tags0/data.csv"));
@@ -349,7 +333,7 @@ TEST_F(HeldoutRealLogs, LogInfoEscapesControlBytesInTopicNames) {
   fs::create_directories(dir);
   WriteBagCopy(dir / "f.bag",
                [](uint64_t, std::string* topic, ros1::ImuMsg*) { *topic = "/imu/da\x1b[31mta"; });
-  const CliRun r = RunIn(dir, "log info f.bag");
+  const testing::CliRun r = testing::RunCliIn(dir, "log info f.bag");
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_FALSE(HasControlBytes(r.out)) << r.out;
   EXPECT_NE(r.out.find("/imu/da\\x1B[31mta"), std::string::npos) << r.out;

@@ -144,19 +144,7 @@ struct UlogCase {
   std::vector<std::string> expected;  // in stderr (refused) or stdout (imported with a note)
 };
 
-struct Outcome {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-// Runs `command` in `dir` with stdout and stderr apart.
-Outcome RunIn(const fs::path& dir, const std::string& command) {
-  const auto r = RunCommand("cd " + dir.string() + " && (MAVLOC_FIGURES=0 " + CliPath() + " " +
-                            command + " 2>stderr.txt)");
-  return {r.exit_code, r.output, testing::ReadFileBytes(dir / "stderr.txt")};
-}
-
-void ExpectOneLineError(const Outcome& o, const std::vector<std::string>& expected) {
+void ExpectOneLineError(const testing::CliRun& o, const std::vector<std::string>& expected) {
   EXPECT_EQ(o.exit_code, 2) << o.out << o.err;
   const std::vector<std::string> lines = Lines(o.err);
   EXPECT_EQ(lines.size(), 1u) << o.err;
@@ -252,7 +240,7 @@ TEST(HeldoutUlog, BadSamplesAreRefusedOrDroppedWithANote) {
     std::string bytes = testing::ReadFileBytes(c.log);
     c.mutate(c.log, &bytes);
     testing::WriteFileBytes(dir / "f.ulg", bytes);
-    const Outcome o = RunIn(dir, c.command);
+    const testing::CliRun o = testing::RunCliIn(dir, c.command);
     if (c.refused) {
       ExpectOneLineError(o, c.expected);
       EXPECT_FALSE(fs::exists(dir / "out")) << "output left";
@@ -274,12 +262,14 @@ TEST(HeldoutUlog, RealLogsImportWithoutDroppedSamples) {
        {"sample.ulg", "sample_log_small.ulg", "sample_appended_multiple.ulg"}) {
     SCOPED_TRACE(log);
     const fs::path dir = MakeTempDir();
-    const Outcome o = RunIn(dir, "log import " + testing::SharedDataDir() + "/px4_ulog/" + log +
-                                     " --imu sensor_combined --out out");
+    const testing::CliRun o =
+        testing::RunCliIn(dir, "log import " + testing::SharedDataDir() + "/px4_ulog/" + log +
+                                   " --imu sensor_combined --out out");
     EXPECT_EQ(o.exit_code, 0) << o.out << o.err;
     EXPECT_EQ(o.out.find("dropped"), std::string::npos) << o.out;
-    const Outcome e = RunIn(dir, "log export " + testing::SharedDataDir() + "/px4_ulog/" + log +
-                                     ":vehicle_attitude --out att.tum");
+    const testing::CliRun e =
+        testing::RunCliIn(dir, "log export " + testing::SharedDataDir() + "/px4_ulog/" + log +
+                                   ":vehicle_attitude --out att.tum");
     EXPECT_EQ(e.exit_code, 0) << e.out << e.err;
   }
 }
@@ -300,8 +290,9 @@ TEST(HeldoutUlog, LogTopicTrajectoriesCarryTheReadersNotes) {
     std::string bytes = testing::ReadFileBytes(SmallUlog());
     if (mutated) SetStamp("vehicle_attitude", 10, -1000)(SmallUlog(), &bytes);
     testing::WriteFileBytes(dir / "f.ulg", bytes);
-    ASSERT_EQ(RunIn(dir, "log import f.ulg --imu sensor_combined --out d").exit_code, 0);
-    const Outcome o = RunIn(dir, compare);
+    ASSERT_EQ(testing::RunCliIn(dir, "log import f.ulg --imu sensor_combined --out d").exit_code,
+              0);
+    const testing::CliRun o = testing::RunCliIn(dir, compare);
     EXPECT_EQ(o.exit_code, 0) << o.out << o.err;
     if (mutated) {
       EXPECT_NE(o.out.find("note: " + drop), std::string::npos) << o.out;
@@ -311,7 +302,8 @@ TEST(HeldoutUlog, LogTopicTrajectoriesCarryTheReadersNotes) {
       EXPECT_EQ(o.out.find("dropped"), std::string::npos) << o.out;
     }
     // eval needs full poses: refused in one stderr line, without the reader's notes.
-    const Outcome e = RunIn(dir, "eval --gt f.ulg:vehicle_attitude --est f.ulg:vehicle_attitude");
+    const testing::CliRun e =
+        testing::RunCliIn(dir, "eval --gt f.ulg:vehicle_attitude --est f.ulg:vehicle_attitude");
     ExpectOneLineError(e, {"f.ulg", "carries no position"});
     EXPECT_EQ(e.out.find("dropped"), std::string::npos) << e.out;
   }
@@ -365,7 +357,7 @@ TEST(HeldoutMessages, EvalErrorsAreOneLineAndNameTheRightFile) {
     WriteTruth(dir / "gt.txt", 800);
     WriteTruth(dir / "est.txt", 200);
     c.mutate(dir);
-    const Outcome o = RunIn(dir, "eval --gt gt.txt --est est.txt --out o");
+    const testing::CliRun o = testing::RunCliIn(dir, "eval --gt gt.txt --est est.txt --out o");
     ExpectOneLineError(o, c.expected);
     EXPECT_FALSE(fs::exists(dir / "o"));
   }
@@ -373,22 +365,25 @@ TEST(HeldoutMessages, EvalErrorsAreOneLineAndNameTheRightFile) {
 
 TEST(HeldoutMessages, OverflowingNanosecondStampIsBeyondTheRange) {
   const fs::path dir = MakeTempDir();
-  ASSERT_EQ(RunIn(dir, "simulate --scenario mav-figure-eight --duration 2 --out d").exit_code, 0);
+  ASSERT_EQ(
+      testing::RunCliIn(dir, "simulate --scenario mav-figure-eight --duration 2 --out d").exit_code,
+      0);
   std::vector<std::string> lines = Lines(testing::ReadFileBytes(dir / "d/mav0/imu0/data.csv"));
   ASSERT_GT(lines.size(), 10u);
   lines[9] = "99999999999999999999" + lines[9].substr(lines[9].find(','));
   std::string text;
   for (const auto& line : lines) text += line + "\n";
   testing::WriteFileBytes(dir / "d/mav0/imu0/data.csv", text);
-  const Outcome o = RunIn(dir, "compare --dataset d --estimators imu-dead-reckoning --report r");
+  const testing::CliRun o =
+      testing::RunCliIn(dir, "compare --dataset d --estimators imu-dead-reckoning --report r");
   ExpectOneLineError(o, {"imu0/data.csv:10: field 'timestamp [ns]'", "is beyond", "2^62 ns"});
   EXPECT_FALSE(fs::exists(dir / "r"));
 }
 
 TEST(HeldoutMessages, EmptyEstimatorListNamesTheOption) {
   const fs::path dir = MakeTempDir();
-  const Outcome o =
-      RunIn(dir, "compare --scenario mav-figure-eight --duration 3 --estimators , --report r");
+  const testing::CliRun o = testing::RunCliIn(
+      dir, "compare --scenario mav-figure-eight --duration 3 --estimators , --report r");
   ExpectOneLineError(o, {"--estimators", "the list is empty"});
   EXPECT_FALSE(fs::exists(dir / "r"));
 }
@@ -398,17 +393,17 @@ TEST(HeldoutReports, FigureHintNamesTheFinalFolderNotTheStagingFolder) {
   const fs::path dir = MakeTempDir();
   WriteTruth(dir / "gt.txt", 800);
   WriteTruth(dir / "est.txt", 200);
-  const Outcome o = RunIn(dir, "eval --gt gt.txt --est est.txt --out o");
+  const testing::CliRun o = testing::RunCliIn(dir, "eval --gt gt.txt --est est.txt --out o");
   ASSERT_EQ(o.exit_code, 0) << o.out << o.err;
   for (const char* file : {"o/eval.md", "o/report.html"}) {
     const std::string text = testing::ReadFileBytes(dir / file);
     EXPECT_EQ(text.find(".tmp-"), std::string::npos) << file;
     EXPECT_NE(text.find("mavloc figures o"), std::string::npos) << file;
   }
-  const Outcome c =
-      RunIn(dir,
-            "compare --scenario mav-figure-eight --duration 3 --estimators imu-dead-reckoning "
-            "--report r");
+  const testing::CliRun c = testing::RunCliIn(
+      dir,
+      "compare --scenario mav-figure-eight --duration 3 --estimators imu-dead-reckoning "
+      "--report r");
   ASSERT_EQ(c.exit_code, 0) << c.out << c.err;
   for (const char* file : {"r/report.md", "r/report.html"}) {
     const std::string text = testing::ReadFileBytes(dir / file);

@@ -558,6 +558,18 @@ void PatchUint32(const std::string& path, uint64_t offset, uint32_t value) {
   std::ofstream(path, std::ios::binary) << bytes;
 }
 
+// Reading /imu of the bag at `path` fails with an InputError naming the bag and `expected`.
+void ExpectImuReadRefused(const std::string& path, const std::string& expected) {
+  try {
+    ReadRosbagImu(path, "/imu");
+    FAIL() << "no error for " << expected;
+  } catch (const InputError& error) {
+    const std::string what = error.what();
+    EXPECT_NE(what.find(path), std::string::npos) << what;
+    EXPECT_NE(what.find(expected), std::string::npos) << what;
+  }
+}
+
 // Found by fuzz_rosbag: rosbag::Bag::open read a header length of 4 GB at the index position and
 // allocated it before the read failed. The record walk now runs before rosbag opens the bag.
 TEST(RosbagErrors, CorruptLengthsAndPositionsAreRefusedBeforeRosbagReadsThem) {
@@ -567,23 +579,14 @@ TEST(RosbagErrors, CorruptLengthsAndPositionsAreRefusedBeforeRosbagReadsThem) {
   const BagRecordScan scan = ScanBagRecords(good);
   ASSERT_TRUE(scan.problem.empty()) << scan.problem;
   ASSERT_GT(scan.index_pos, 13u);
-  const auto expect_refused = [&](const std::string& path, const std::string& expected) {
-    try {
-      ReadRosbagImu(path, "/imu");
-      FAIL() << "no error for " << expected;
-    } catch (const InputError& error) {
-      const std::string what = error.what();
-      EXPECT_NE(what.find(path), std::string::npos) << what;
-      EXPECT_NE(what.find(expected), std::string::npos) << what;
-    }
-  };
   // The header length of the first index record.
   const std::string huge_header = dir + "/huge_header.bag";
   fs::copy_file(good, huge_header);
   PatchUint32(huge_header, scan.index_pos, 0xFFFFFFFFu);
-  expect_refused(huge_header, fmt::format("the record at byte {} has an implausible header length "
-                                          "4294967295",
-                                          scan.index_pos));
+  ExpectImuReadRefused(huge_header,
+                       fmt::format("the record at byte {} has an implausible header length "
+                                   "4294967295",
+                                   scan.index_pos));
   // The bag header's index position, moved into the middle of a record.
   const std::string bytes = FileBytes(good);
   const auto field = bytes.find("index_pos=");
@@ -591,7 +594,7 @@ TEST(RosbagErrors, CorruptLengthsAndPositionsAreRefusedBeforeRosbagReadsThem) {
   const std::string moved = dir + "/moved_index.bag";
   fs::copy_file(good, moved);
   PatchUint32(moved, field + 10, static_cast<uint32_t>(scan.index_pos + 1));
-  expect_refused(
+  ExpectImuReadRefused(
       moved, fmt::format("the index position {} is not the start of a record", scan.index_pos + 1));
   // A chunk's uncompressed size (the field after "size=" in the first chunk header).
   const auto size_field = bytes.find("size=");
@@ -599,13 +602,13 @@ TEST(RosbagErrors, CorruptLengthsAndPositionsAreRefusedBeforeRosbagReadsThem) {
   const std::string big_chunk = dir + "/big_chunk.bag";
   fs::copy_file(good, big_chunk);
   PatchUint32(big_chunk, size_field + 5, 0xF0000000u);
-  expect_refused(big_chunk, "states an implausible uncompressed size");
+  ExpectImuReadRefused(big_chunk, "states an implausible uncompressed size");
   // A field of the bag header record (at byte 13, its first field at 17) longer than the header:
   // ros::Header::parse would read past its buffer.
   const std::string long_field = dir + "/long_field.bag";
   fs::copy_file(good, long_field);
   PatchUint32(long_field, 17, 0x7FFFu);
-  expect_refused(long_field, "the record header at byte 13 is corrupt (a field runs past");
+  ExpectImuReadRefused(long_field, "the record header at byte 13 is corrupt (a field runs past");
 }
 
 // Found by fuzz_rosbag: rosbag read the message record at an index entry's offset without checking
@@ -633,21 +636,11 @@ TEST(RosbagErrors, IndexEntriesOutsideTheirChunkAreRefused) {
     at += 8 + uint64_t{header_len} + data_len;
   }
   ASSERT_GT(entries, 0u) << "no index-data record";
-  const auto expect_refused = [&](const std::string& path, const std::string& expected) {
-    try {
-      ReadRosbagImu(path, "/imu");
-      FAIL() << "no error for " << expected;
-    } catch (const InputError& error) {
-      const std::string what = error.what();
-      EXPECT_NE(what.find(path), std::string::npos) << what;
-      EXPECT_NE(what.find(expected), std::string::npos) << what;
-    }
-  };
   // The first entry's offset (after its uint32 sec, uint32 nsec) far beyond the chunk.
   const std::string beyond = dir + "/beyond.bag";
   fs::copy_file(good, beyond);
   PatchUint32(beyond, entries + 8, 0x7FFFFFF0u);
-  expect_refused(beyond, "points at a message beyond the end of its chunk");
+  ExpectImuReadRefused(beyond, "points at a message beyond the end of its chunk");
   // Inside the chunk but not at a message record: the "header length" read there runs past it.
   const std::string inside = dir + "/inside.bag";
   fs::copy_file(good, inside);
