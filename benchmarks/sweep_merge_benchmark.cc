@@ -1,4 +1,4 @@
-// Merge cost of a 10,000-run sweep (issue 16, "Scale figures"): 10,000 units with two estimators
+// Merge cost of a 10,000-run sweep (docs/performance.md): 10,000 units with two estimators
 // and 15 metrics each (the shape of a tag-pnp + smoother run), written as N partial files
 // (N = 10,000: one unit per shard, the worst case; N = 100: one shard per node of a 100-node
 // study), then timed: MergePartials (read, parse and check every partial) + BuildSweepReport

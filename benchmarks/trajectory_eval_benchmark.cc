@@ -1,4 +1,4 @@
-// Trajectory evaluation at scale (issue 13, item 8): a 1,000,000-pose ground truth (1 kHz, 1000 s)
+// Trajectory evaluation at scale: a 1,000,000-pose ground truth (1 kHz, 1000 s)
 // against a 500,000-pose estimate (500 Hz, stamps 0.3 ms off the truth's), SE3 and posyaw.
 // - BM_AteCore: association (evo nearest, linear merge) + Umeyama alignment + ATE statistics, the
 //   computation benchmarks/numpy_ate_yardstick.py does with np.searchsorted and numpy's SVD on the

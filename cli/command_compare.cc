@@ -17,9 +17,13 @@
 #include "core/progress.h"
 #include "datasets/io/euroc_io.h"
 #include "datasets/io/log_reader.h"
+#include "datasets/io/tum_io.h"
 #include "evaluation/comparison.h"
+#include "evaluation/comparison_report.h"
 #include "evaluation/crlb/crlb_report.h"
 #include "evaluation/report_figures.h"
+#include "evaluation/report/report_folder.h"
+#include "evaluation/report/report_markdown.h"
 #include "evaluation/report_writer.h"
 #include "evaluation/truth_checks.h"
 
@@ -36,6 +40,7 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
     uint64_t seed = 1;
     double duration_s = 0.0, max_dt_s = 0.02;
     std::vector<std::string> settings, options;
+    bool force = false;
   };
   auto args = std::make_shared<Args>();
   auto* scenario =
@@ -51,6 +56,7 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
   command->add_option("--option", args->options,
                       "Estimator option estimator:key=value or key=value for all (repeatable)");
   command->add_option("--report", args->report, "Report folder (created)")->capture_default_str();
+  command->add_flag("--force", args->force, "Replace an existing --report folder (a mavloc report)");
   command->add_option("--align", args->align, "ATE alignment: none, se3, sim3 or posyaw")
       ->check(CLI::IsMember({"none", "se3", "sim3", "posyaw"}))
       ->capture_default_str();
@@ -87,7 +93,7 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
     // has the option; unknown names and keys are refused before anything runs.
     std::map<std::string, EstimatorOptions> per_estimator =
         EstimatorOptionsFor(args->options, names);
-    StagedFolder report(args->report, FolderKind::kReport);
+    StagedFolder report(args->report, FolderKind::kReport, args->force);
 
     Dataset dataset;
     if (!args->dataset.empty() && !args->settings.empty())
@@ -182,81 +188,62 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       }
       evaluations.push_back(std::move(evaluation));
     }
-    if (evaluations.empty()) {
+    if (std::none_of(evaluations.begin(), evaluations.end(),
+                     [](const EstimatorEvaluation& e) { return e.ran; })) {
       std::string reasons;
       for (const auto& entry : left_out) reasons += (reasons.empty() ? "" : "; ") + entry;
-      throw InputError("no estimator applies to this dataset: " + reasons);
+      for (const auto& e : evaluations)
+        reasons += (reasons.empty() ? "" : "; ") + e.estimator + " (" + e.skipped_reason + ")";
+      throw InputError("no estimator applies to " +
+                       (args->dataset.empty() ? "scenario " + dataset.scenario
+                                              : "dataset " + args->dataset) +
+                       ": " + reasons);
     }
 
     const std::string title = dataset.scenario.empty() ? dataset.name : dataset.scenario;
-    const std::string table = ComparisonMarkdownTable(evaluations);
-    const std::string against =
-        reference ? "the reference " + reference->Describe() +
-                        ", an estimate, not a truth: the numbers are differences, not errors"
-                  : "the ground truth";
-    std::printf(
-        "mavloc compare on %s against %s (mean absolute %s per quantity; ATE alignment %s)\n\n%s",
-        title.c_str(), against.c_str(), reference ? "difference" : "error", args->align.c_str(),
-        table.c_str());
-    std::string left_out_line;
-    for (const auto& entry : left_out) left_out_line += (left_out_line.empty() ? "" : "; ") + entry;
-    if (!left_out_line.empty()) {
-      left_out_line = "Not applicable to this dataset: " + left_out_line + ".\n";
-      std::printf("\n%s", left_out_line.c_str());
-    }
-    // Issue 15: the Cramér–Rao bound beside the errors on simulated datasets.
-    std::optional<CrlbReport> crlb;
-    if (!reference && !dataset.scenario.empty() && !dataset.ground_truth.empty()) {
-      ReportProgress("compare", "Cramér–Rao bound");
-      crlb = MakeCrlbReport(dataset, evaluations, per_estimator["smoother"]);
-      if (crlb->available) std::printf("\n%s", crlb->text.c_str());
-    }
-
-    ReportFiles files;
-    files.json["dataset"] = dataset.root.empty() ? dataset.name : dataset.root;
-    files.json["scenario"] = dataset.scenario;
-    files.json["scenario_info"] = dataset.scenario_info;
-    files.json["estimators"] = nlohmann::json::object();
-    for (const auto& e : evaluations) files.json["estimators"][e.estimator] = EvaluationToJson(e);
-    files.markdown = "# mavloc compare: " + title + "\n\n";
-    if (!dataset.scenario_info.empty()) {
-      files.markdown += "Scenario settings: ";
-      for (const auto& [k, v] : dataset.scenario_info) files.markdown += k + " = " + v + "; ";
-      files.markdown += "\n\n";
-    }
+    Report model = ComparisonReport(title, dataset, evaluations, evaluation_options, left_out);
     if (reference) {
-      files.json["reference"] = {
+      model.details["reference"] = {
           {"kind", reference->kind == ComparisonReference::Kind::kEstimator  ? "estimator"
                    : reference->kind == ComparisonReference::Kind::kLogTopic ? "log_topic"
                                                                              : "trajectory_file"},
           {"name", reference->name},
           {"is_truth", false}};
-      files.markdown += "**Reference: " + reference->Describe() +
-                        ". The reference is an estimate, not a ground truth**: every number "
-                        "below is a difference between two estimates, and a small difference "
-                        "does not prove either accurate. The reprojection RMS of the tag corners "
-                        "(when the dataset has tags) is the measure that needs no truth.\n\n";
-      files.markdown +=
-          "Mean absolute difference to the reference per quantity (angles in "
-          "degrees), ATE RMSE to the reference after `" +
-          args->align +
-          "` alignment, wall-clock runtime, frames without a solution, and the "
-          "reprojection RMS of the tag corners per camera.\n\n" +
-          table;
-    } else {
-      files.markdown +=
-          "Mean absolute error per quantity (angles in degrees), ATE RMSE after `" + args->align +
-          "` alignment, wall-clock runtime, and frames without a solution.\n\n" + table;
+      model.sections.push_back(
+          {"Reference",
+           "**Reference: " + reference->Describe() +
+               ". The reference is an estimate, not a ground truth**: every number is a "
+               "difference between two estimates, and a small difference does not prove either "
+               "accurate. The reprojection RMS of the tag corners (when the dataset has tags) is "
+               "the measure that needs no truth.\n"});
     }
-    if (crlb) {
-      files.json["cramer_rao"] = crlb->json;
-      files.markdown += "\n" + crlb->markdown;
+    std::printf("mavloc compare on %s against %s (ATE alignment %s)\n\n%s", title.c_str(),
+                reference ? ("the reference " + reference->Describe() +
+                             ", an estimate, not a truth: the numbers are differences, not errors")
+                                .c_str()
+                          : "the ground truth",
+                args->align.c_str(), RenderResultTables(model).c_str());
+    if (!left_out.empty()) {
+      std::string line;
+      for (const auto& entry : left_out) line += (line.empty() ? "" : "; ") + entry;
+      std::printf("\nNot applicable to this dataset: %s.\n", line.c_str());
     }
-    if (!left_out_line.empty()) files.markdown += "\n" + left_out_line;
-    files.json["not_applicable"] = left_out;
-    files.extra["errors.csv"] = ErrorsCsv(evaluations);
-    files.extra.merge(ComparisonTrajectoryFiles(dataset, evaluations));
-    WriteReportFolder(report.path(), files);
+    // The Cramér–Rao bound beside the errors on simulated datasets.
+    if (!reference && !dataset.scenario.empty() && !dataset.ground_truth.empty()) {
+      ReportProgress("compare", "Cramér–Rao bound");
+      const CrlbReport crlb = MakeCrlbReport(dataset, evaluations, per_estimator["smoother"]);
+      if (crlb.available) {
+        std::printf("\n%s", crlb.text.c_str());
+        model.details["cramer_rao"] = crlb.json;
+        model.sections.push_back({"", crlb.markdown});
+      }
+    }
+    model.details["not_applicable"] = left_out;
+    model.files["errors.csv"] = ErrorsCsv(evaluations);
+    model.files.merge(ComparisonTrajectoryFiles(dataset, evaluations));
+    if (reference && !reference->poses.empty())
+      model.files["reference.tum"] = TumTrajectoryText(reference->poses);
+    WriteReport(report.path(), model);
     const FigureOutcome figures = WriteReportFigures(report.path(), report.ForUser(report.path()));
     report.Commit();
     std::printf("\nreport written to %s/ (report.md, report.json, errors.csv, trajectories)\n",

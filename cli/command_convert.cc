@@ -64,6 +64,10 @@ void RegisterConvert(CLI::App& app, int* exit_code) {
       if (!args->out_times.empty()) WriteFileAtomically(args->out_times, KittiTimesText(poses));
       WriteFileAtomically(args->out, KittiPosesText(poses));
     }
+    // Fewer poses than rows (repeated stamps): said with the count, never silently.
+    const std::string kept = DescribeRowsKept(loaded.report, poses.size());
+    if (!kept.empty())
+      std::fprintf(stderr, "mavloc: note: %s: wrote %s\n", args->in.c_str(), kept.c_str());
     std::printf(
         "%zu poses: %s (%s) -> %s (%s)%s\n", poses.size(), args->in.c_str(),
         loaded.report.layout.c_str(), args->out.c_str(), args->format.c_str(),

@@ -3,7 +3,7 @@
 // (evaluation/trajectory_evaluation.h), in any trajectory format mavloc reads
 // (datasets/io/trajectory_formats/trajectory_format.h). Prints one table (estimates x metrics,
 // mean and standard deviation over runs); --out DIR writes the report folder of eval_report.h and
-// its figures (evaluation/report_figures.h); --json FILE writes eval.json alone.
+// its figures (evaluation/report_figures.h); --json FILE writes report.json alone.
 #include <fmt/format.h>
 
 #include <unistd.h>
@@ -25,6 +25,7 @@
 #include "core/errors.h"
 #include "datasets/io/log_reader.h"
 #include "datasets/io/trajectory_formats/trajectory_format.h"
+#include "evaluation/report/report_folder.h"
 #include "evaluation/report_figures.h"
 #include "evaluation/trajectory_evaluation.h"
 
@@ -43,10 +44,12 @@ struct Args {
   long n_to_align = -1;
   bool align_origin = false, all_pairs = false, nearest = false;
   bool align_given = false;  // --align on the command line
+  bool force = false;        // replace an existing --out folder
   double delta = 1.0, t_max_diff_s = 0.01, t_offset_s = 0.0;
   std::vector<double> rel_lengths_m;
-  // Options of `mavloc eval` before issue 13 (still accepted). --delta, --t-max-diff, --t-offset
-  // and --rel-lengths are checked in ProtocolFromArgs; the others by their CLI11 validator.
+  // Older option names, still accepted (--max-dt = --t-max-diff) and extra RPE deltas. --delta,
+  // --t-max-diff, --t-offset and --rel-lengths are checked in ProtocolFromArgs; the others by their
+  // CLI11 validator.
   double max_dt_s = -1.0;
   std::vector<double> rpe_distances_m, rpe_times_s;
 };
@@ -255,7 +258,7 @@ void Run(const Args& a) {
   EvaluationProtocol protocol = ProtocolFromArgs(a);
   // The report folder is checked before any work and written whole (cli/output_folder.h).
   std::optional<StagedFolder> out;
-  if (!a.out.empty()) out.emplace(a.out, FolderKind::kReport);
+  if (!a.out.empty()) out.emplace(a.out, FolderKind::kReport, a.force);
   if (!a.labels.empty() && a.labels.size() != a.est.size())
     throw InputError("--label", 0, "",
                      fmt::format("given {} times for {} --est: give one label per --est",
@@ -333,12 +336,14 @@ void Run(const Args& a) {
     for (const auto& r : e.runs) {
       const auto& ev = r.evaluation;
       const auto& t = ev.ape_translation_m;
+      // Poses fewer than the file's rows (repeated stamps dropped) are said with the count.
+      const std::string kept = DescribeRowsKept(r.input, ev.estimate_count);
       std::printf(
-          "%s%s: %zu of %zu poses associated; ATE translation rmse %.6f mean %.6f median "
+          "%s%s: %zu of %zu poses associated%s; ATE translation rmse %.6f mean %.6f median "
           "%.6f std %.6f min %.6f max %.6f m; rotation rmse %.6f deg\n",
           e.label.c_str(), r.run > 0 ? fmt::format(" run {}", r.run).c_str() : "", ev.pair_count,
-          ev.estimate_count, t.rmse, t.mean, t.median, t.std, t.min, t.max,
-          ev.ape_rotation_deg.rmse);
+          ev.estimate_count, kept.empty() ? "" : (" (read " + kept + ")").c_str(), t.rmse, t.mean,
+          t.median, t.std, t.min, t.max, ev.ape_rotation_deg.rmse);
     }
   std::printf("%s", EvalSummaryTable(report).c_str());
   const nlohmann::json json = EvalJson(report);
@@ -349,14 +354,14 @@ void Run(const Args& a) {
       for (const auto& message : r.evaluation.diagnostics.Messages())
         std::printf("diagnostic: %s%s: %s\n", e.label.c_str(),
                     r.run > 0 ? fmt::format(" run {}", r.run).c_str() : "", message.c_str());
-  if (!a.json.empty()) WriteFileAtomically(a.json, json.dump(2) + "\n");
+  const Report model = EvalModel(report);
+  if (!a.json.empty()) WriteFileAtomically(a.json, ReportJsonText(model));
   if (out) {
-    for (const auto& [name, contents] : EvalReportFiles(report))
-      WriteFileAtomically((fs::path(out->path()) / name).string(), contents);
+    WriteReport(out->path(), model);
     const FigureOutcome figures = WriteReportFigures(out->path(), out->ForUser(out->path()));
     out->Commit();
     std::printf(
-        "report: %s (eval.md, eval.tex, eval.json, truth.tum, estimates, "
+        "report: %s (report.md, report.json, eval.tex, truth.tum, estimates, "
         "errors_over_time.csv, relative_errors.csv)\n",
         a.out.c_str());
     std::printf("%s\n", out->ForUser(DescribeFigureOutcome(figures)).c_str());
@@ -418,8 +423,9 @@ void RegisterEval(CLI::App& app, int* exit_code) {
   command->add_option("--rel-lengths", a->rel_lengths_m,
                       "Relative-error lengths [m] (default: 10..50 % of the trajectory length)");
   command->add_option("--out", a->out,
-                      "Write the report folder (eval.md, eval.tex, eval.json, ...)");
-  command->add_option("--json", a->json, "Also write eval.json to this file");
+                      "Write the report folder (report.md, report.json, eval.tex, ...)");
+  command->add_option("--json", a->json, "Also write report.json to this file");
+  command->add_flag("--force", a->force, "Replace an existing --out folder (a mavloc report)");
   command->add_option("--max-dt", a->max_dt_s, "Same as --t-max-diff (older name)")
       ->check(PositiveFinite());
   command->add_option("--rpe-distance", a->rpe_distances_m, "Extra RPE deltas in metres")

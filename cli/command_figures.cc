@@ -21,7 +21,8 @@ void RegisterFigures(CLI::App& app, int* exit_code) {
     if (!std::filesystem::is_directory(*folder)) throw InputError(*folder, 0, "", "not a folder");
     if (DetectReportKind(*folder) == ReportKind::kUnknown)
       throw InputError(*folder, 0, "",
-                       "no mavloc report here (expected eval.md, errors.csv or report.json)");
+                       "no mavloc report here (no report.json or eval.json naming its "
+                       "report_kind)");
     const FigureOutcome outcome = WriteReportFigures(*folder);
     std::printf("%s\n", DescribeFigureOutcome(outcome).c_str());
     // No figures is a failure of this command (its only job), unlike after eval/compare/repro.

@@ -236,6 +236,9 @@ void ImportLog(const ImportArgs& args) {
     notes.push_back(fmt::format("cam{}: camera model from {}", index, topic));
   }
   const fs::path image_root = fs::path(args.out).string() + ".images-" + std::to_string(::getpid());
+  // Removed if the command is interrupted (core/interrupt.h); registered before the folder exists
+  // and until after RemoveOnExit has removed it.
+  const TemporaryPathGuard image_root_guard(image_root.string());
   struct RemoveOnExit {
     fs::path path;
     ~RemoveOnExit() {

@@ -92,11 +92,13 @@ void RegisterObstacles(CLI::App& app, int* exit_code) {
   struct Args {
     std::string dataset, report, pose_source = "gt";
     std::vector<std::string> settings, options;
+    bool force = false;
   };
   auto args = std::make_shared<Args>();
   command->add_option("--dataset", args->dataset, "Dataset folder with cam0/cam1 images")
       ->required();
   command->add_option("--report", args->report, "Report folder (created)")->required();
+  command->add_flag("--force", args->force, "Replace an existing --report folder (a mavloc report)");
   command
       ->add_option("--pose-source", args->pose_source,
                    "Vehicle poses for eq. (6): gt or an estimator name")
@@ -118,7 +120,7 @@ void RegisterObstacles(CLI::App& app, int* exit_code) {
     if (const EstimatorEntry* entry = FindEstimator(args->pose_source))
       CheckEstimatorOptions(*entry, EstimatorOptions(estimator_options));
     // The report folder is checked before any work and written whole (cli/output_folder.h).
-    StagedFolder report(args->report, FolderKind::kReport);
+    StagedFolder report(args->report, FolderKind::kReport, args->force);
     ReportProgress("obstacles", "reading " + args->dataset);
     const Dataset dataset = ReadEurocDataset(args->dataset);
     const std::vector<StampedPose> poses =

@@ -20,6 +20,7 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
     int jobs = 0;
     uint64_t seed = 1;
     std::vector<std::string> settings;
+    bool force = false;
   };
   auto args = std::make_shared<Args>();
   command->add_option("name", args->name, "Reproduction name")->required();
@@ -28,8 +29,9 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
   AddSeedOption(command, &args->seed, "First seed; run k uses seed + k");
   command
       ->add_option("--report", args->report,
-                   "Report folder: created, or replaced when empty or an earlier report")
+                   "Report folder: created (an existing one only with --force)")
       ->required();
+  command->add_flag("--force", args->force, "Replace an existing --report folder (a mavloc report)");
   command->add_option("--set", args->settings, "Setting key=value (repeatable)");
   command
       ->add_option(
@@ -48,8 +50,8 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
     if (args->runs > 0) options.runs = args->runs;
     options.seed = args->seed;
     options.settings = ParseKeyValues(args->settings, "--set");
-    // Reproductions with a unit function run on the sweep machinery (issue 16); the others run
-    // in this process.
+    // Reproductions with a unit function run on the sweep machinery (evaluation/sweep/); the
+    // others run in this process.
     if (entry->unit) {
       options.jobs = args->jobs > 0 ? args->jobs : AvailableCores();
       options.worker_argv = {SelfPath(), "sweep-worker", "--grid", "{grid}"};
@@ -61,7 +63,7 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
                        " runs in one process (--jobs applies to repro " + with_units + ")");
     }
     // Written whole into a fresh folder, then renamed into place (cli/output_folder.h).
-    StagedFolder report(args->report, FolderKind::kReport);
+    StagedFolder report(args->report, FolderKind::kReport, args->force);
     options.report_dir = report.path();
     *exit_code = entry->run(options);
     const FigureOutcome figures = WriteReportFigures(report.path(), report.ForUser(report.path()));

@@ -22,14 +22,16 @@ void RegisterSimulate(CLI::App& app, int* exit_code) {
     double duration_s = 0.0;
     std::vector<std::string> settings;
     bool render = false;
+    bool force = false;
   };
   auto args = std::make_shared<Args>();
   command->add_option("--scenario", args->scenario, "Scenario name")->required();
   command
       ->add_option("--out", args->out,
-                   "Output dataset folder: created, or replaced when it is empty or an earlier "
-                   "mavloc dataset (written whole into a fresh folder, then renamed into place)")
+                   "Output dataset folder: created (an existing one only with --force; written "
+                   "whole into a fresh folder, then renamed into place)")
       ->required();
+  command->add_flag("--force", args->force, "Replace an existing --out folder (a mavloc dataset)");
   AddSeedOption(command, &args->seed, "Master seed (motion, IMU and camera seeds derive from it)");
   AddScenarioDurationOption(command, &args->duration_s,
                             "Duration in seconds (scenario default if unset)");
@@ -44,7 +46,7 @@ void RegisterSimulate(CLI::App& app, int* exit_code) {
     options.render_images = args->render;
     // The dataset is written into a fresh folder beside --out and renamed into place: no stream of
     // an earlier dataset survives in the new one, and an error or an interrupt leaves nothing.
-    StagedFolder out(args->out, FolderKind::kDataset);
+    StagedFolder out(args->out, FolderKind::kDataset, args->force);
     // Rendered images go to a scratch folder inside the output, removed once copied into cam*/data.
     const std::filesystem::path scratch = std::filesystem::path(out.path()) / ".render-scratch";
     if (args->render) options.image_dir = scratch.string();

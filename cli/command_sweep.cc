@@ -1,4 +1,4 @@
-// mavloc sweep, sweep-merge, sweep-status (issue 16): Monte-Carlo grids of scenarios x settings x
+// mavloc sweep, sweep-merge, sweep-status: Monte-Carlo grids of scenarios x settings x
 // seeds x estimators, run on all local cores, in shards merged exactly, or as a Slurm job array.
 // The engine is evaluation/sweep/ (grid, unit, runner, partials, report, Slurm files); this file
 // only parses options. `sweep-worker` (hidden) serves units to the parallel runner.
@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +21,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/key_values.h"
+#include "core/number_text.h"
 #include "evaluation/sweep/slurm_submit.h"
 #include "evaluation/sweep/sweep_grid.h"
 #include "evaluation/sweep/sweep_partial.h"
@@ -94,7 +94,7 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
     std::vector<std::string> settings, options, setup;
     double duration_s = 0.0, max_dt_s = 0.02;
     int jobs = 0, shards = 0, cpus_per_task = 1;
-    bool slurm = false, dry_run = false;
+    bool slurm = false, dry_run = false, force = false;
     std::string time = "01:00:00", mem, partition, account;
   };
   auto args = std::make_shared<Args>();
@@ -126,6 +126,9 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
                    "Report folder; the partial folder with --shard; the results folder on the "
                    "shared file system with --slurm")
       ->required();
+  command->add_flag("--force", args->force,
+                    "Replace an existing --out folder (a mavloc report, or with --slurm the "
+                    "results folder of an earlier --slurm)");
   command->add_flag("--slurm", args->slurm, "Write and submit a Slurm job array + merge job");
   command->add_flag("--dry-run", args->dry_run, "With --slurm: write the scripts, submit nothing");
   command->add_option("--shards", args->shards, "With --slurm: array tasks (default: units/10)")
@@ -181,7 +184,7 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
       CheckSlurmOptions(options);  // before the folder is touched
       // The results folder is written whole (cli/output_folder.h): a new or empty folder, or the
       // results folder of an earlier --slurm (slurm.json, sweep.sbatch), never another folder.
-      StagedFolder results(args->out, FolderKind::kSlurmResults);
+      StagedFolder results(args->out, FolderKind::kSlurmResults, args->force);
       options.write_dir = results.path();
       const SlurmFiles files = WriteSlurmFiles(grid, options);
       results.Commit();
@@ -214,7 +217,7 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
     }
     // The report folder is checked before any unit runs and written whole (cli/output_folder.h).
     std::optional<StagedFolder> report;
-    if (args->shard.empty()) report.emplace(args->out, FolderKind::kReport);
+    if (args->shard.empty()) report.emplace(args->out, FolderKind::kReport, args->force);
     const std::vector<nlohmann::json> results =
         RunSweepUnits(grid, indices, RunOptions(args->jobs));
     if (!args->shard.empty()) {
@@ -238,8 +241,10 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
   merge->add_option("inputs", *merge_inputs, "Partial files and/or folders holding them")
       ->required();
   merge->add_option("--out", *merge_out, "Report folder (created)")->required();
-  merge->callback([merge_inputs, merge_out, exit_code] {
-    StagedFolder report(*merge_out, FolderKind::kReport);  // checked first, written whole
+  auto merge_force = std::make_shared<bool>(false);
+  merge->add_flag("--force", *merge_force, "Replace an existing --out folder (a mavloc report)");
+  merge->callback([merge_inputs, merge_out, merge_force, exit_code] {
+    StagedFolder report(*merge_out, FolderKind::kReport, *merge_force);  // checked first, written whole
     const MergedSweep merged = MergePartials(*merge_inputs);
     WriteSweepReport(report.path(),
                      BuildSweepReport(merged.grid, merged.fingerprint, merged.units));
@@ -304,10 +309,10 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
       while ((newline = pending.find('\n')) != std::string::npos) {
         const std::string line = pending.substr(0, newline);
         pending.erase(0, newline + 1);
-        size_t unit = 0;
-        const auto [end, error] = std::from_chars(line.data(), line.data() + line.size(), unit);
-        if (error != std::errc() || end != line.data() + line.size() || unit >= unit_count)
+        const ParsedNumber<unsigned long long> parsed = ParseUnsignedText(line);
+        if (!parsed.ok() || parsed.value >= unit_count)
           throw InputError("sweep-worker: not a unit of the grid: '" + line + "'");
+        const size_t unit = parsed.value;
         WriteFileAtomically(fmt::format("{}/unit-{}.json", *worker_folder, unit),
                             RunSweepUnit(grid, unit).dump());
         const std::string reply = line + "\n";

@@ -1,5 +1,7 @@
 #include "cli/eval_report.h"
 
+#include "evaluation/report/report_protocol.h"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -357,7 +359,7 @@ std::string EvalLatex(const EvalReport& report) {
   const Table table = BuildTable(report);
   // One 'r' column per metric; plain \\hline rules (no package needed).
   std::string tex =
-      "% mavloc eval: mean $\\pm$ sample std over runs (protocol in eval.md)\n\\begin{tabular}{lr";
+      "% mavloc eval: mean $\\pm$ sample std over runs (protocol in report.md)\n\\begin{tabular}{lr";
   for (size_t k = 0; k < table.titles.size(); ++k) tex += "r";
   tex += "}\n\\hline\nestimate & runs";
   for (const auto& t : table.titles) tex += " & " + LatexEscape(t);
@@ -382,6 +384,7 @@ nlohmann::json EvalJson(const EvalReport& report) {
     for (const auto& r : e.runs) any_by_index |= r.by_index;
   nlohmann::json j;
   j["tool"] = "mavloc eval";
+  j["report_kind"] = "eval";
   nlohmann::json deltas = nlohmann::json::array();
   for (const auto& d : p.rpe_deltas)
     deltas.push_back({{"delta", d.delta},
@@ -486,7 +489,8 @@ nlohmann::json EvalJson(const EvalReport& report) {
     e["summary"] = summary;
     j["estimates"].push_back(e);
   }
-  // One estimate, one run: the keys `mavloc eval --json` wrote before issue 13.
+  // One estimate, one run: also the top-level keys of the single-file `mavloc eval --json` output
+  // (pairs, align, ate, ate_rotation), which scripts read.
   if (report.estimates.size() == 1 && report.estimates[0].runs.size() == 1) {
     const TrajectoryEvaluation& ev = report.estimates[0].runs[0].evaluation;
     j["pairs"] = ev.pair_count;
@@ -500,11 +504,78 @@ nlohmann::json EvalJson(const EvalReport& report) {
   return j;
 }
 
+namespace {
+
+ErrorStatistics DegreesToRadians(ErrorStatistics s) {
+  for (double* v : {&s.rmse, &s.mean, &s.median, &s.std, &s.min, &s.max}) *v *= M_PI / 180.0;
+  s.sse *= (M_PI / 180.0) * (M_PI / 180.0);
+  return s;
+}
+
+// One estimator result per run: the ATE and RPE of the one trajectory-error engine in SI units,
+// the coverage of the run's estimate, its diagnostics as warnings.
+EstimatorResult ResultOfRun(const EvalEstimate& estimate, const EvalRun& run) {
+  const TrajectoryEvaluation& ev = run.evaluation;
+  EstimatorResult r;
+  r.name = estimate.label + (run.run > 0 ? fmt::format(" run {}", run.run) : "");
+  Coverage coverage;
+  coverage.pairs = ev.pair_count;
+  coverage.estimate_poses = ev.estimate_count;
+  coverage.overlap_s = ev.duration_s;
+  if (!run.aligned_estimate.empty())
+    coverage.estimate_span_s =
+        NsToSeconds(run.aligned_estimate.back().t_ns - run.aligned_estimate.front().t_ns);
+  r.coverage = coverage;
+  r.metrics["ate_translation"] = {"m", std::nullopt, ev.ape_translation_m};
+  r.metrics["ate_rotation"] = {"rad", std::nullopt, DegreesToRadians(ev.ape_rotation_deg)};
+  for (const auto& rpe : ev.rpe) {
+    const std::string key = fmt::format("rpe_{:g}_{}", rpe.delta.delta, DeltaUnitName(rpe.delta.unit));
+    r.metrics[key + "_translation"] = {"m", std::nullopt, rpe.translation_m};
+    r.metrics[key + "_rotation"] = {"rad", std::nullopt, DegreesToRadians(rpe.rotation_deg)};
+  }
+  for (const auto& rel : ev.relative)
+    if (rel.count() > 0)
+      r.metrics[fmt::format("relative_translation_{:g}m", rel.length_m)] = {
+          "%", std::nullopt, rel.translation_percent_stats};
+  r.warnings = ev.diagnostics.Messages();
+  if (coverage.estimate_span_s > 0.0 && coverage.Fraction() < kLowCoverageFraction)
+    r.warnings.push_back(fmt::format(
+        "the ground truth covers only {:.1f} of the estimate's {:.1f} s ({} of {} poses): the "
+        "numbers describe that part alone",
+        coverage.overlap_s, coverage.estimate_span_s, coverage.pairs, coverage.estimate_poses));
+  return r;
+}
+
+}  // namespace
+
+Report EvalModel(const EvalReport& report) {
+  const EvaluationProtocol& p = report.protocol;
+  bool any_by_index = false;
+  int runs = 0;
+  for (const auto& e : report.estimates)
+    for (const auto& r : e.runs) {
+      any_by_index |= r.by_index;
+      ++runs;
+    }
+  Report model;
+  model.kind = "eval";
+  model.title = "mavloc eval";
+  model.provenance.input = report.truth.path;
+  model.provenance.runs = runs;
+  model.protocol = ReportProtocolOf(p, any_by_index);
+  for (const auto& e : report.estimates)
+    for (const auto& r : e.runs) model.estimators.push_back(ResultOfRun(e, r));
+  std::string body = EvalMarkdown(report);
+  body = body.substr(body.find('\n') + 1);  // the title is the report's
+  model.sections.push_back({"Per estimate", body});
+  model.details = EvalJson(report);
+  model.files = EvalReportFiles(report);
+  return model;
+}
+
 std::map<std::string, std::string> EvalReportFiles(const EvalReport& report) {
   std::map<std::string, std::string> files;
-  files["eval.md"] = EvalMarkdown(report);
   files["eval.tex"] = EvalLatex(report);
-  files["eval.json"] = EvalJson(report).dump(2) + "\n";
   files["truth.tum"] = TumTrajectoryText(report.truth_poses);
   const TimeNs t0 = report.truth_poses.empty() ? 0 : report.truth_poses.front().t_ns;
   std::string over_time = "label,run,t_s,translation_error_m,rotation_error_deg\n";

@@ -1,4 +1,4 @@
-// The report of `mavloc eval` (issue 13, items 4 and 7): one table estimates x metrics (mean and
+// The report of `mavloc eval`: one table estimates x metrics (mean and
 // sample standard deviation over the runs of an estimator), the protocol that reproduces every
 // number, and the data files the figure writer (evaluation/report_figures.h) reads:
 //   eval.md, eval.tex, eval.json,
@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "datasets/io/trajectory_formats/trajectory_format.h"
+#include "evaluation/report/report.h"
 #include "evaluation/trajectory_evaluation.h"
 
 namespace mavloc::cli {
@@ -59,8 +60,11 @@ std::string EvalLatex(const EvalReport& report);
 nlohmann::json EvalJson(const EvalReport& report);
 // The table alone (for the terminal).
 std::string EvalSummaryTable(const EvalReport& report);
-// Every file of the report folder: name -> contents.
+// The data files of the report folder (eval.tex, the trajectories, the CSVs): name -> contents.
 std::map<std::string, std::string> EvalReportFiles(const EvalReport& report);
+// The report of the one results model (evaluation/report/report.h): one estimator result per run,
+// eval's own tables as a section, its JSON as the details, EvalReportFiles as the files.
+Report EvalModel(const EvalReport& report);
 // estimate_<label>[_run<k>].tum
 std::string EstimateFileName(const EvalEstimate& estimate, const EvalRun& run);
 

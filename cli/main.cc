@@ -9,6 +9,7 @@
 #include <exception>
 #include <string>
 
+#include "evaluation/report/provenance.h"
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Print help for every command");
   int exit_code = 0;
+  mavloc::RecordInvocation(argc, argv);  // the provenance of every report
   mavloc::cli::RegisterList(app, &exit_code);
   mavloc::cli::RegisterSimulate(app, &exit_code);
   mavloc::cli::RegisterRun(app, &exit_code);
@@ -45,6 +47,7 @@ int main(int argc, char** argv) {
   mavloc::cli::RegisterImportTagslam(app, &exit_code);
   mavloc::cli::RegisterLog(app, &exit_code);
   mavloc::cli::RegisterSweep(app, &exit_code);
+  mavloc::cli::RegisterMatrix(app, &exit_code);
   // An unknown first word is named in the message (CLI11 would only say a command is required).
   const auto subcommands = app.get_subcommands({});
   const bool known_command =

@@ -2,33 +2,30 @@
 
 #include <fmt/format.h>
 
-#include <cctype>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <optional>
 #include <set>
 
 #include "cli/commands.h"
 #include "core/errors.h"
+#include "core/number_text.h"
 #include "datasets/scenarios/scenario.h"
 
 namespace mavloc::cli {
 
 namespace {
 
-// The whole text as a double, or nullopt ("1.5x", "", "0x10" and locale tricks are refused).
-std::optional<double> ParseDouble(const std::string& text) {
-  if (text.empty() || std::isspace(static_cast<unsigned char>(text.front()))) return std::nullopt;
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() + text.size()) return std::nullopt;
-  if (text.find_first_of("xXpP") != std::string::npos) return std::nullopt;  // hex floats
-  return value;
-}
-
 std::string Short(const std::string& text) { return PrintableMessage(text, 60); }
+
+// The whole text as a double (core/number_text.h: "1.5x", "", "0x10", " 1" and a NUL byte are
+// refused; "inf", "nan" and "1e999" are numbers that are not finite), or nullopt.
+std::optional<double> ParseDouble(const std::string& text) {
+  const ParsedNumber<double> value = ParseDoubleText(text, NonFinite::kAllow);
+  if (value.status == NumberTextStatus::kOverflow) return text[0] == '-' ? -HUGE_VAL : HUGE_VAL;
+  if (!value.ok()) return std::nullopt;
+  return value.value;
+}
 
 std::string Bounds(double min, bool min_open, double max, const std::string& unit) {
   return fmt::format("{}{}, {}]{}", min_open ? "(" : "[", min, max, unit.empty() ? "" : " " + unit);
@@ -82,9 +79,8 @@ CLI::Validator WholeNumber(long long min, long long max) {
         const std::string digits = negative ? text.substr(1) : text;
         if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos)
           return "'" + Short(text) + "' is not a whole number";
-        errno = 0;
-        const long long value = std::strtoll(text.c_str(), nullptr, 10);
-        if (errno == ERANGE || value < min || value > max)
+        const ParsedNumber<long long> value = ParseIntegerText(text);
+        if (!value.ok() || value.value < min || value.value > max)
           return fmt::format("'{}' is outside [{}, {}]", Short(text), min, max);
         return "";
       },
@@ -96,9 +92,7 @@ CLI::Validator SeedNumber() {
       [](std::string& text) -> std::string {
         if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
           return "'" + Short(text) + "' is not a seed (a whole number 0 .. 18446744073709551615)";
-        errno = 0;
-        std::strtoull(text.c_str(), nullptr, 10);
-        if (errno == ERANGE)
+        if (!ParseUnsignedText(text).ok())
           return "'" + Short(text) + "' is larger than the largest seed, 18446744073709551615";
         return "";
       },

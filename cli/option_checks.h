@@ -1,4 +1,4 @@
-// Checks of command-line values (issue 17, "Options"), one place for every command. CLI11 runs a
+// Checks of command-line values, one place for every command. CLI11 runs a
 // validator on the text before converting it and reports "--name: message", which main() prints
 // as one line with exit code 2 before the command does anything.
 //

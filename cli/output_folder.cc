@@ -7,9 +7,11 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "core/text.h"
 
 namespace mavloc::cli {
 
@@ -40,13 +42,28 @@ bool IsReport(const fs::path& folder) {
           fs::exists(folder / "eval.json"));
 }
 
+// What a folder holds, for the message that refuses to replace it.
+std::string Describe(const fs::path& folder) {
+  if (IsSlurmResults(folder)) return "the results of a `mavloc sweep --slurm`";
+  if (IsMavlocDataset(folder)) return "a mavloc dataset";
+  if (IsReport(folder)) {
+    const auto json = nlohmann::json::parse(ReadWholeFile((folder / "report.json").string()),
+                                            nullptr, false);
+    if (json.is_object() && json.contains("report_kind") && json["report_kind"].is_string())
+      return "a `mavloc " + json["report_kind"].get<std::string>() + "` report";
+    return "a mavloc report";
+  }
+  return "files that are not mavloc's";
+}
+
 }  // namespace
 
 std::string StagingPathFor(const std::string& target) {
   return NormalizedTarget(target).string() + ".tmp-" + std::to_string(::getpid());
 }
 
-StagedFolder::StagedFolder(const std::string& target, FolderKind kind) : target_(target) {
+StagedFolder::StagedFolder(const std::string& target, FolderKind kind, bool force)
+    : target_(target) {
   const fs::path path = NormalizedTarget(target);
   const fs::path parent = path.parent_path();
   if (!fs::is_directory(parent))
@@ -68,6 +85,10 @@ StagedFolder::StagedFolder(const std::string& target, FolderKind kind) : target_
                        "folder is not empty and is not the results folder of an earlier "
                        "`mavloc sweep --slurm` (slurm.json, sweep.sbatch): not replaced; choose a "
                        "new or empty folder");
+    if (!empty && !force)
+      throw InputError(target, 0, "",
+                       "folder exists and holds " + Describe(path) +
+                           ": not replaced; add --force to replace it, or choose another folder");
   }
   staging_ = StagingPathFor(target);
   interrupt_token_ = RegisterTemporaryPath(staging_);

@@ -1,4 +1,4 @@
-// Output folders written whole or not at all (issue 17, "Data integrity"): a command writes into a
+// Output folders written whole or not at all: a command writes into a
 // fresh staging folder "<target>.tmp-<pid>" beside the target and, once everything is written,
 // puts it in the target's place. So a new dataset never keeps the streams of an older one (e.g. its
 // tags0/), a report folder never keeps the files of an earlier report, an error leaves nothing, and
@@ -25,9 +25,10 @@ std::string StagingPathFor(const std::string& target);
 class StagedFolder {
  public:
   // Checks the target before any work is done (throws InputError): its parent folder must exist,
-  // and an existing target must be a folder that is empty or of `kind` (another folder is never
-  // replaced: the message says what it holds). Then creates the staging folder.
-  StagedFolder(const std::string& target, FolderKind kind);
+  // and an existing target must be an empty folder, or, when the user asked for it (`force`,
+  // the commands' --force), a folder of `kind`. No command replaces a folder it was not asked to:
+  // the message says what the folder holds and names --force. Then creates the staging folder.
+  StagedFolder(const std::string& target, FolderKind kind, bool force);
   // Removes the staging folder unless Commit() succeeded.
   ~StagedFolder();
   StagedFolder(const StagedFolder&) = delete;

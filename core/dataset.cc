@@ -1,11 +1,10 @@
 #include "core/dataset.h"
 
 #include <algorithm>
-#include <cmath>
-#include <cstdlib>
 #include <iterator>
 
 #include "core/errors.h"
+#include "core/number_text.h"
 
 namespace mavloc {
 
@@ -28,11 +27,12 @@ auto FirstNotBefore(const std::vector<GroundTruthState>& truth, TimeNs t_ns) {
 std::optional<double> ScenarioNumber(const Dataset& dataset, const std::string& key) {
   const auto it = dataset.scenario_info.find(key);
   if (it == dataset.scenario_info.end()) return std::nullopt;
-  char* end = nullptr;
-  const double value = std::strtod(it->second.c_str(), &end);
-  if (end == it->second.c_str() || !std::isfinite(value))
-    throw InputError("scenario.yaml", 0, key, "'" + it->second + "' is not a finite number");
-  return value;
+  // The value is its first word; words after it describe it ("1 per bearing angle").
+  const ParsedNumber<double> value = ParseDoubleText(FirstWord(it->second));
+  if (!value.ok())
+    throw InputError("scenario.yaml", 0, key,
+                     DescribeNumberText(it->second, value, "a finite number"));
+  return value.value;
 }
 
 const GroundTruthState& NearestTruth(const std::vector<GroundTruthState>& truth, TimeNs t_ns) {

@@ -1,6 +1,6 @@
 // Bad input is reported by throwing InputError from the I/O layers; the CLI turns it into one line
 // on stderr and exit code 2. Numerical code never throws for degenerate geometry: it returns a
-// status with a reason instead (STYLE.md).
+// status with a reason instead (DESIGN.md, "Conventions").
 #pragma once
 
 #include <stdexcept>
@@ -16,7 +16,7 @@ class InputError : public std::runtime_error {
              const std::string& message);
 };
 
-// A message made fit for one line of a terminal (issue 17, "Messages"): control bytes, DEL and
+// A message made fit for one line of a terminal: control bytes, DEL and
 // bytes that are not valid UTF-8 become \xNN (tab \t, newline \n, carriage return \r); a message
 // longer than max_bytes after escaping keeps its beginning and end around
 // " ... [N bytes cut] ... " (N bytes of the message), never splitting an escape or a UTF-8

@@ -8,4 +8,10 @@ int Estimate::FailureCount() const {
   return total;
 }
 
+int Estimate::RejectionCount() const {
+  int total = 0;
+  for (const auto& [reason, count] : rejections) total += count;
+  return total;
+}
+
 }  // namespace mavloc

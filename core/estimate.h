@@ -47,9 +47,14 @@ struct Estimate {
   std::vector<StampedCovariance> covariances;
   // Frames (or epochs) without a solution, counted by reason ("features coincident", ...).
   std::map<std::string, int> failures;
+  // Measurements the estimator left out while the frame still got a pose (a tag gated out by a
+  // filter, a frame whose attitude disagrees with the IMU), counted by reason.
+  std::map<std::string, int> rejections;
 
   void CountFailure(const std::string& reason) { ++failures[reason]; }
+  void CountRejection(const std::string& reason, int count = 1) { rejections[reason] += count; }
   int FailureCount() const;
+  int RejectionCount() const;
 };
 
 }  // namespace mavloc

@@ -1,4 +1,4 @@
-// Interrupting a command (SIGINT, SIGTERM) leaves no partial output (issue 17). Every temporary
+// Interrupting a command (SIGINT, SIGTERM) leaves no partial output. Every temporary
 // file or folder that will be renamed into place (core/atomic_file.h, cli/output_folder.h) is
 // registered here while it exists. InstallInterruptHandler blocks SIGINT and SIGTERM in the
 // calling thread (and so in every thread started afterwards) and starts one thread that waits for

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cmath>
+#include <limits>
 #include <sstream>
-#include <stdexcept>
 
 #include "core/errors.h"
+#include "core/number_text.h"
 
 namespace mavloc {
 
@@ -19,27 +19,21 @@ InputError BadSetting(const std::string& key, const std::string& value, const st
 double GetDoubleSetting(const KeyValues& values, const std::string& key, double fallback) {
   const auto it = values.find(key);
   if (it == values.end()) return fallback;
-  try {
-    size_t used = 0;
-    const double value = std::stod(it->second, &used);
-    if (used != it->second.size() || !std::isfinite(value)) throw std::invalid_argument("");
-    return value;
-  } catch (const std::exception&) {
-    throw BadSetting(key, it->second, "a finite number");
-  }
+  const ParsedNumber<double> value = ParseDoubleText(it->second);
+  if (!value.ok())
+    throw BadSetting(key, it->second,
+                     "a finite number (" + DescribeNumberText(it->second, value) + ")");
+  return value.value;
 }
 
 int GetIntSetting(const KeyValues& values, const std::string& key, int fallback) {
   const auto it = values.find(key);
   if (it == values.end()) return fallback;
-  try {
-    size_t used = 0;
-    const int value = std::stoi(it->second, &used);
-    if (used != it->second.size()) throw std::invalid_argument("");
-    return value;
-  } catch (const std::exception&) {
+  const ParsedNumber<long long> value = ParseIntegerText(it->second);
+  if (!value.ok() || value.value < std::numeric_limits<int>::min() ||
+      value.value > std::numeric_limits<int>::max())
     throw BadSetting(key, it->second, "an integer");
-  }
+  return static_cast<int>(value.value);
 }
 
 bool GetBoolSetting(const KeyValues& values, const std::string& key, bool fallback) {

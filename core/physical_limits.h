@@ -1,4 +1,4 @@
-// Physical sanity ranges for every value a reader accepts, in one place (issue 17, class 2).
+// Physical sanity ranges for every value a reader accepts, in one place.
 //
 // A value outside its range is refused with the file, line and field, instead of poisoning the
 // estimators silently (an accelerometer value of 1e308 is finite but no MAV ever measured it). The

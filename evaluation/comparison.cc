@@ -10,6 +10,7 @@
 #include "core/rotation.h"
 #include "evaluation/association.h"
 #include "evaluation/report_writer.h"
+#include "evaluation/trajectory_evaluation.h"
 
 namespace mavloc {
 
@@ -35,7 +36,51 @@ const QuantityErrorSeries* FindSeries(const EstimatorEvaluation& e, const std::s
   return nullptr;
 }
 
+ErrorStatistics Scaled(ErrorStatistics s, double factor) {
+  for (double* v : {&s.rmse, &s.mean, &s.median, &s.std, &s.min, &s.max}) *v *= factor;
+  s.sse *= factor * factor;
+  return s;
+}
+
+// The ATE of the one trajectory-error engine (trajectory_evaluation.h) under the comparison's
+// protocol (ComparisonProtocol), with the coverage and the engine's diagnostics.
+void EvaluatePoses(const std::vector<StampedPose>& truth, const EvaluationOptions& options,
+                   EstimatorEvaluation* evaluation) {
+  const std::vector<StampedPose>& poses = evaluation->estimate.poses;
+  Coverage coverage;
+  coverage.estimate_poses = poses.size();
+  coverage.estimate_span_s = NsToSeconds(poses.back().t_ns - poses.front().t_ns);
+  std::string why;
+  const auto result = EvaluateTrajectory(poses, truth, ComparisonProtocol(options), &why);
+  if (!result) {
+    evaluation->coverage = coverage;
+    evaluation->warnings.push_back("no ATE: " + why);
+    return;
+  }
+  coverage.pairs = result->pair_count;
+  coverage.overlap_s = result->duration_s;
+  evaluation->coverage = coverage;
+  AteResult ate;
+  ate.align = options.align;
+  ate.alignment = result->alignment;
+  ate.translation_m = result->ape_translation_m;
+  ate.rotation_rad = Scaled(result->ape_rotation_deg, M_PI / 180.0);
+  ate.translation_errors_m = result->ape.translation_m;
+  evaluation->ate = std::move(ate);
+  for (auto& message : result->diagnostics.Messages()) evaluation->warnings.push_back(message);
+}
+
 }  // namespace
+
+EvaluationProtocol ComparisonProtocol(const EvaluationOptions& options) {
+  EvaluationProtocol protocol;
+  protocol.association = AssociationMode::kInterpolate;
+  protocol.max_dt_s = options.max_dt_s;
+  protocol.alignment = options.align;
+  protocol.rpe_deltas.clear();  // compare reports the ATE; eval the RPE and relative errors
+  protocol.relative_length_fractions.clear();
+  return protocol;
+}
 
 EstimatorEvaluation EvaluateEstimate(const std::string& estimator_name, Estimate estimate,
                                      const Dataset& dataset, const EvaluationOptions& options) {
@@ -55,11 +100,8 @@ EstimatorEvaluation EvaluateEstimate(const std::string& estimator_name, Estimate
     }
     evaluation.quantity_errors =
         ComputeQuantityErrors(q, reference.quantities, options.max_dt_s, options.quantities);
-    if (!evaluation.estimate.poses.empty() && !reference.poses.empty()) {
-      const auto pairs =
-          AssociatePoses(evaluation.estimate.poses, reference.poses, options.max_dt_s);
-      if (!pairs.empty()) evaluation.ate = ComputeAte(pairs, options.align);
-    }
+    if (!evaluation.estimate.poses.empty() && !reference.poses.empty())
+      EvaluatePoses(reference.poses, options, &evaluation);
     return evaluation;
   }
   // The dataset's extra truth quantities come first: where they name a quantity (the laser
@@ -84,11 +126,8 @@ EstimatorEvaluation EvaluateEstimate(const std::string& estimator_name, Estimate
          ComputeQuantityErrors(q, GroundTruthQuantities(dataset), options.max_dt_s, from_states))
       evaluation.quantity_errors.push_back(std::move(series));
   }
-  if (!evaluation.estimate.poses.empty() && !dataset.ground_truth.empty()) {
-    const auto pairs =
-        AssociatePoses(evaluation.estimate.poses, GroundTruthPoses(dataset), options.max_dt_s);
-    evaluation.ate = ComputeAte(pairs, options.align);
-  }
+  if (!evaluation.estimate.poses.empty() && !dataset.ground_truth.empty())
+    EvaluatePoses(GroundTruthPoses(dataset), options, &evaluation);
   return evaluation;
 }
 

@@ -16,7 +16,9 @@
 #include "evaluation/alignment.h"
 #include "evaluation/quantity_errors.h"
 #include "evaluation/reference.h"
+#include "evaluation/report/report.h"
 #include "evaluation/reprojection.h"
+#include "evaluation/trajectory_evaluation.h"
 #include "evaluation/trajectory_metrics.h"
 #include "solver/estimator.h"
 
@@ -42,7 +44,16 @@ struct EstimatorEvaluation {
   // Against a reference: whether this estimator is the reference itself (not compared).
   bool is_reference = false;
   std::vector<ReprojectionStatistics> reprojection;  // tag corners, per camera
+  // How much of the estimate's poses the ATE covers (set when the estimate has poses).
+  std::optional<Coverage> coverage;
+  // The trajectory-error engine's diagnostics (ill-conditioned alignment, time or rotation
+  // offset, too few pairs), one line each.
+  std::vector<std::string> warnings;
 };
+
+// The protocol of a comparison: the one trajectory-error engine (trajectory_evaluation.h) with the
+// comparison's alignment and association tolerance, truth interpolated at the estimate's stamps.
+EvaluationProtocol ComparisonProtocol(const EvaluationOptions& options);
 
 // Evaluates an estimate against the dataset's ground truth, or against options.reference when set;
 // the tag reprojection statistics are computed either way.

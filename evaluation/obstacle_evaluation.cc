@@ -378,6 +378,7 @@ ReportFiles ObstacleReport(const std::string& dataset_name, const StereoObstacle
   }
 
   ReportFiles files;
+  files.kind = "obstacles";
   files.markdown = md;
   files.json = json;
   files.extra["alerts.csv"] = ObstacleAlertsCsv(run);

@@ -1,5 +1,5 @@
 // Stereo obstacle detection over a dataset and its evaluation against the known obstacles
-// (PIXHAWK paper, Meier et al. 2012, sec. 4 and 7.3; issue 8).
+// (PIXHAWK paper, Meier et al. 2012, sec. 4 and 7.3).
 //
 // RunStereoObstacleDetection runs the per-frame pipeline (frontends/stereo/stereo_pipeline.h) on
 // every synchronous cam0/cam1 pair, with the body pose of each frame taken from a pose source

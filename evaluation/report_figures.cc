@@ -1,6 +1,5 @@
 #include "evaluation/report_figures.h"
 
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,9 +8,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "core/interrupt.h"
+#include "core/subprocess.h"
 #include "core/text.h"
 #include "evaluation/report_figures_script.h"  // generated: kReportFiguresScript (CMakeLists.txt)
 #include "evaluation/report_html.h"
@@ -26,6 +28,8 @@ constexpr const char* kDefaultPython = "/usr/bin/python3";
 constexpr const char* kFiguresMarker = "<!-- mavloc:figures -->";
 // Exit code of the script when matplotlib or numpy cannot be imported.
 constexpr int kMissingModuleExit = 3;
+constexpr const char* kNoReportHere =
+    "the folder holds no mavloc report (a report.json or eval.json naming its report_kind)";
 
 bool Exists(const std::string& dir, const std::string& name) {
   std::error_code error;
@@ -68,7 +72,7 @@ ScriptRun RunScript(const std::string& python, const std::string& report_dir,
   std::error_code error;
   const fs::path tmp = fs::temp_directory_path(error);
   const std::string script = (tmp / (stem + ".py")).string();
-  const std::string err_path = (tmp / (stem + ".err")).string();
+  const TemporaryPathGuard script_guard(script);  // removed if interrupted (core/interrupt.h)
   ScriptRun run;
   {
     std::ofstream out(script, std::ios::binary);
@@ -78,28 +82,16 @@ ScriptRun RunScript(const std::string& python, const std::string& report_dir,
       return run;
     }
   }
-  const std::string command = "exec " + ShellQuote(python) + " " + ShellQuote(script) + " " +
-                              ShellQuote(report_dir) + " --kind " + kind + " 2>" +
-                              ShellQuote(err_path) + " </dev/null";
-  std::fflush(nullptr);
-  if (FILE* pipe = ::popen(command.c_str(), "r")) {
-    char buffer[4096];
-    size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) run.out.append(buffer, n);
-    const int status = ::pclose(pipe);
-    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  } else {
-    run.err = "cannot start " + python;
-  }
-  run.err += ReadWholeFile(err_path);
+  const ProgramRun program =
+      RunProgram({python, script, report_dir, "--kind", kind});
+  run.exit_code = program.started ? program.exit_code : 127;
+  run.out = program.out;
+  run.err = program.started ? program.err : program.error;
   fs::remove(script, error);
-  fs::remove(err_path, error);
   return run;
 }
 
-std::string MarkdownName(ReportKind kind) {
-  return kind == ReportKind::kEval ? "eval.md" : "report.md";
-}
+std::string MarkdownName(ReportKind) { return "report.md"; }
 
 std::string WithoutFiguresSection(const std::string& markdown) {
   const auto at = markdown.find(kFiguresMarker);
@@ -155,7 +147,7 @@ void DrawFigures(const std::string& report_dir, const std::string& shown_dir,
     return;
   }
   if (outcome->kind == ReportKind::kUnknown) {
-    outcome->reason = "the folder holds no mavloc report (eval.md, errors.csv or report.json)";
+    outcome->reason = kNoReportHere;
     return;
   }
   const std::string python = PythonPath();
@@ -186,7 +178,7 @@ void DrawFigures(const std::string& report_dir, const std::string& shown_dir,
     outcome->how_to_get_figures = HowToGetFigures(shown_dir);
   } else if (run.exit_code != 0) {
     outcome->reason = "the plotting script failed (exit code " + std::to_string(run.exit_code) +
-                      "): " + LastLines(run.err, 3);
+                      "): " + LastLines(run.err, 1);
   } else if (outcome->figures.empty()) {
     outcome->reason = "nothing to plot in this " + ReportKindName(outcome->kind) + " report";
   }
@@ -202,6 +194,12 @@ std::string ReportKindName(ReportKind kind) {
       return "compare";
     case ReportKind::kRepro:
       return "repro";
+    case ReportKind::kSweep:
+      return "sweep";
+    case ReportKind::kObstacles:
+      return "obstacles";
+    case ReportKind::kMatrix:
+      return "matrix";
     case ReportKind::kUnknown:
       break;
   }
@@ -209,11 +207,17 @@ std::string ReportKindName(ReportKind kind) {
 }
 
 ReportKind DetectReportKind(const std::string& report_dir) {
-  if (Exists(report_dir, "eval.md") || Exists(report_dir, "eval.json") ||
-      Exists(report_dir, "errors_over_time.csv"))
-    return ReportKind::kEval;
-  if (Exists(report_dir, "errors.csv")) return ReportKind::kCompare;
-  if (Exists(report_dir, "report.json")) return ReportKind::kRepro;
+  for (const char* name : {"report.json", "eval.json"}) {
+    const std::string path = (fs::path(report_dir) / name).string();
+    if (!Exists(report_dir, name)) continue;
+    const nlohmann::json json = nlohmann::json::parse(ReadWholeFile(path), nullptr, false);
+    if (!json.is_object() || !json.contains("report_kind") || !json["report_kind"].is_string())
+      continue;
+    const std::string kind = json["report_kind"].get<std::string>();
+    for (const ReportKind k : {ReportKind::kEval, ReportKind::kCompare, ReportKind::kRepro,
+                               ReportKind::kSweep, ReportKind::kObstacles, ReportKind::kMatrix})
+      if (kind == ReportKindName(k)) return k;
+  }
   return ReportKind::kUnknown;
 }
 

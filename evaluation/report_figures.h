@@ -1,9 +1,9 @@
-// Figures and report.html for every report folder (`mavloc eval`, `mavloc compare`, `mavloc repro`;
-// issue 13, item 5). The figures are drawn by Debian's python3-matplotlib: the plotting script is
-// embedded in the binary at build time (scripts/figures/report_figures.py -> a generated header),
-// written to a temporary file and run with /usr/bin/python3 (or $MAVLOC_PYTHON), so a binary that
-// was moved away from its source tree still plots. report.html is then written beside the Markdown
-// report: one self-contained page (its tables, figures as base64 PNG data URIs, no network).
+// Figures and report.html for every report folder (`mavloc eval`, `mavloc compare`, `mavloc
+// repro`). The figures are drawn by Debian's python3-matplotlib: the plotting script is embedded in
+// the binary at build time (scripts/figures/report_figures.py -> a generated header), written to a
+// temporary file and run with /usr/bin/python3 (or $MAVLOC_PYTHON), so a binary that was moved away
+// from its source tree still plots. report.html is then written beside the Markdown report: one
+// self-contained page (its tables, figures as base64 PNG data URIs, no network).
 //
 // Missing python3 or matplotlib is not an error: report.html is written without figures and says
 // how to get them (FigureOutcome::how_to_get_figures); nothing throws for it.
@@ -14,13 +14,13 @@
 
 namespace mavloc {
 
-// What the folder holds, detected from its files:
-//   kEval    - eval.md, eval.json or errors_over_time.csv   (`mavloc eval --out DIR`)
-//   kCompare - errors.csv                                    (`mavloc compare --report DIR`)
-//   kRepro   - report.json (its "tables")                    (`mavloc repro NAME --report DIR`)
-enum class ReportKind { kUnknown, kEval, kCompare, kRepro };
+// What the folder holds, as its report.json (or eval.json) declares in "report_kind": eval
+// (`mavloc eval --out DIR`), compare, repro, sweep, obstacles or matrix. A folder without such a file is
+// no report, whatever other files it holds.
+enum class ReportKind { kUnknown, kEval, kCompare, kRepro, kSweep, kObstacles, kMatrix };
 
-std::string ReportKindName(ReportKind kind);  // "eval", "compare", "repro", "unknown"
+// "eval", "compare", "repro", "sweep", "obstacles", "matrix", "unknown"
+std::string ReportKindName(ReportKind kind);
 ReportKind DetectReportKind(const std::string& report_dir);
 
 struct FigureOutcome {

@@ -1,4 +1,4 @@
-// report.html: one self-contained page per report folder (issue 13, item 5) — the tables of the
+// report.html: one self-contained page per report folder — the tables of the
 // folder's Markdown report and its figures inlined as base64 PNG data URIs (RFC 2397, RFC 4648), no
 // script, no stylesheet or font from the network, so that a browser opens it from disk or mail.
 #pragma once

@@ -11,21 +11,32 @@
 #include "core/interrupt.h"
 #include "datasets/io/tum_io.h"
 #include "evaluation/comparison.h"
+#include "evaluation/report/report_folder.h"
+#include "evaluation/report/report_markdown.h"
 
 namespace mavloc {
 
+Report ReportFromFiles(const ReportFiles& files) {
+  Report report;
+  report.kind = files.kind;
+  // The first "# " line is the title; the rest of the producer's Markdown is one section.
+  std::string body = files.markdown;
+  if (body.rfind("# ", 0) == 0) {
+    const auto end = body.find('\n');
+    report.title = body.substr(2, end == std::string::npos ? std::string::npos : end - 2);
+    body = end == std::string::npos ? "" : body.substr(end + 1);
+  } else {
+    report.title = "mavloc " + files.kind;
+  }
+  while (!body.empty() && body.front() == '\n') body.erase(body.begin());
+  if (!body.empty()) report.sections.push_back({"", body});
+  report.details = files.json.is_object() ? files.json : nlohmann::json::object();
+  report.files = files.extra;
+  return report;
+}
+
 void WriteReportFolder(const std::string& folder, const ReportFiles& files) {
-  std::error_code error;
-  CreateOutputDirectories(folder, error);
-  if (error || !std::filesystem::is_directory(folder))
-    throw InputError(folder, 0, "",
-                     "cannot create report folder" + (error ? ": " + error.message() : ""));
-  const auto path = [&](const std::string& name) {
-    return (std::filesystem::path(folder) / name).string();
-  };
-  for (const auto& [name, contents] : files.extra) WriteFileAtomically(path(name), contents);
-  WriteFileAtomically(path("report.json"), files.json.dump(2) + "\n");
-  WriteFileAtomically(path("report.md"), files.markdown);
+  WriteReport(folder, ReportFromFiles(files));
 }
 
 std::map<std::string, std::string> ComparisonTrajectoryFiles(
@@ -55,17 +66,7 @@ std::map<std::string, std::string> ComparisonTrajectoryFiles(
 
 std::string MarkdownTable(const std::vector<std::string>& header,
                           const std::vector<std::vector<std::string>>& rows) {
-  std::string text = "|";
-  for (const auto& h : header) text += " " + h + " |";
-  text += "\n|";
-  for (size_t k = 0; k < header.size(); ++k) text += k == 0 ? " --- |" : " ---: |";
-  text += "\n";
-  for (const auto& row : rows) {
-    text += "|";
-    for (const auto& cell : row) text += " " + cell + " |";
-    text += "\n";
-  }
-  return text;
+  return MarkdownTableOf(header, rows);
 }
 
 std::string FormatNumber(double value, int digits) {

@@ -1,5 +1,6 @@
-// Report folders: report.md (people), report.json (tools; the contract of issue #2), and CSV files.
-// Every file is written atomically (temporary file + rename); the folder is created if needed.
+// Report folders: report.md (people), report.json (tools: the keys other programs read), and CSV
+// files. Every file is written atomically (temporary file + rename); the folder is created if
+// needed.
 #pragma once
 
 #include <map>
@@ -7,17 +8,27 @@
 #include <string>
 #include <vector>
 
+#include "evaluation/report/report.h"
+
 namespace mavloc {
 
 struct Dataset;
 struct EstimatorEvaluation;
 
 struct ReportFiles {
+  // What wrote the report: "compare", "repro", "obstacles" (report.json's report_kind, by which
+  // `mavloc figures` recognises a report folder).
+  std::string kind = "repro";
   std::string markdown;                      // report.md
   nlohmann::json json;                       // report.json
   std::map<std::string, std::string> extra;  // file name -> contents (e.g. "errors.csv")
 };
 
+// A producer's Markdown and JSON as a Report (evaluation/report/report.h): the title from the
+// Markdown's first heading, the rest of it as one section, the JSON as the report's details.
+Report ReportFromFiles(const ReportFiles& files);
+
+// Writes ReportFromFiles(files) with the one report writer (evaluation/report/report_folder.h).
 // Throws InputError when the folder cannot be created or written.
 void WriteReportFolder(const std::string& folder, const ReportFiles& files);
 

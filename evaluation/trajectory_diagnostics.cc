@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
@@ -273,8 +274,37 @@ PairCountDiagnostic DiagnosePairCount(size_t pairs, const std::vector<StampedPos
   return d;
 }
 
+AlignmentConditionDiagnostic DiagnoseAlignmentCondition(const std::vector<Eigen::Vector3d>& p_gt,
+                                                        const std::string& mode, bool needs_two,
+                                                        const DiagnosticOptions& options) {
+  AlignmentConditionDiagnostic d;
+  d.mode = mode;
+  if (p_gt.size() < 2) return d;
+  d.evaluated = true;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : p_gt) mean += p;
+  mean /= static_cast<double>(p_gt.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const auto& p : p_gt) scatter += (p - mean) * (p - mean).transpose();
+  scatter /= static_cast<double>(p_gt.size());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+  const Eigen::Vector3d variances = solver.eigenvalues().cwiseMax(0.0);  // ascending
+  d.extents_m = Eigen::Vector3d(std::sqrt(variances[2]), std::sqrt(variances[1]),
+                                std::sqrt(variances[0]));
+  d.detected = d.extents_m[needs_two ? 1 : 0] < options.min_alignment_extent_m;
+  return d;
+}
+
 std::vector<std::string> TrajectoryDiagnostics::Messages() const {
   std::vector<std::string> out;
+  if (alignment_condition.detected) {
+    out.push_back(fmt::format(
+        "the {} alignment is ill-conditioned: the truth positions it fits spread only {:.3f} m "
+        "and {:.3f} m (RMS) in their two main directions, too little to fix its rotation, so the "
+        "errors after it mean little; use --align-origin or --align none",
+        alignment_condition.mode, alignment_condition.extents_m[0],
+        alignment_condition.extents_m[1]));
+  }
   if (pair_count.detected) {
     out.push_back(fmt::format(
         "only {} associated pairs (estimate {} poses, {} .. {} s, median spacing {:.4f} s; truth "

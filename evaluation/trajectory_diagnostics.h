@@ -20,6 +20,11 @@
 //   Its standard deviation from the curvature kappa of the cost and the residual cost c* over
 //   N samples: sigma = sqrt(2 c* / (N kappa)). Reported when |tau| exceeds one median sample
 //   period of the estimate and 3 sigma.
+// - Alignment conditioning: Umeyama (se3, sim3) fixes a rotation only when the truth positions it
+//   fits spread in at least two directions, posyaw (a yaw) when they spread in one. The RMS
+//   extents are the singular values of the centred positions over sqrt(n); below
+//   min_alignment_extent_m in the direction the mode needs, the alignment's rotation is fitted to
+//   noise and the errors after it mean nothing.
 // - Scale: a Sim3 scale s with |s - 1| > max_scale_deviation for an estimator declared metric.
 // - Too few pairs: fewer than min_pairs associated (or fewer than a fraction of the estimate),
 //   with the stamp ranges of both inputs and their median spacing.
@@ -41,6 +46,7 @@ struct DiagnosticOptions {
   double rotation_offset_sigma_factor = 5.0;
   double max_time_offset_search_s = 1.0;  // the shift search window +-
   size_t min_pairs = 10;
+  double min_alignment_extent_m = 0.05;  // RMS extent the alignment's rotation needs
   double min_pair_fraction = 0.5;  // pairs / estimate poses below this is reported
 };
 
@@ -69,6 +75,13 @@ struct ScaleDiagnostic {
   double scale = 1.0;
 };
 
+struct AlignmentConditionDiagnostic {
+  bool evaluated = false;  // se3, sim3 and posyaw fitted to more than one pair
+  bool detected = false;
+  std::string mode;
+  Eigen::Vector3d extents_m = Eigen::Vector3d::Zero();  // RMS extents, largest first
+};
+
 struct PairCountDiagnostic {
   bool detected = false;
   size_t pairs = 0;
@@ -85,9 +98,15 @@ struct TrajectoryDiagnostics {
   TimeOffsetDiagnostic time_offset;
   ScaleDiagnostic scale;
   PairCountDiagnostic pair_count;
+  AlignmentConditionDiagnostic alignment_condition;
   // One line per detected fault, with its likely cause (empty when none).
   std::vector<std::string> Messages() const;
 };
+
+// The conditioning of an alignment fitted to these truth positions (AlignmentConditionDiagnostic).
+AlignmentConditionDiagnostic DiagnoseAlignmentCondition(const std::vector<Eigen::Vector3d>& p_gt,
+                                                        const std::string& mode, bool needs_two,
+                                                        const DiagnosticOptions& options);
 
 // Median spacing of sorted stamps in seconds (0 for fewer than 2).
 double MedianSpacingSeconds(const std::vector<StampedPose>& poses);

@@ -101,8 +101,8 @@ std::optional<TrajectoryEvaluation> EvaluateTrajectory(const std::vector<Stamped
                             protocol.max_dt_s, protocol.time_offset_s));
     return std::nullopt;
   }
-  // One pose is not a trajectory: any alignment fits it exactly and the "error" is zero
-  // (issue 17, class 4).
+  // One pose is not a trajectory: any alignment fits it exactly and the "error" is zero, so it is
+  // refused rather than reported.
   if (pairs.size() < 2) {
     SetWhy(why, fmt::format("only 1 pose pair ({} estimate and {} truth poses): a trajectory "
                             "evaluation needs at least 2",
@@ -131,6 +131,10 @@ std::optional<TrajectoryEvaluation> EvaluateTrajectory(const std::vector<Stamped
       p_gt[i] = pairs[i].T_W_B_gt.p;
     }
     S = AlignPoints(p_est, p_gt, protocol.alignment);
+    if (protocol.alignment != AlignmentMode::kNone)
+      out.diagnostics.alignment_condition = DiagnoseAlignmentCondition(
+          p_gt, AlignmentModeName(protocol.alignment),
+          protocol.alignment != AlignmentMode::kPosYaw, protocol.diagnostics);
   }
   if (!S) {
     SetWhy(why, fmt::format("cannot align with {} on {} pairs: too few, or the positions are "

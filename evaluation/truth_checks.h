@@ -1,6 +1,6 @@
-// Checks that a dataset's ground truth can judge its estimators (issue 17, class 4: a ground truth
-// that does not overlap the data used to give an empty table and exit 0; a one-row ground truth
-// was "evaluated").
+// Checks that a dataset's ground truth can judge its estimators: a ground truth that does not
+// overlap the data, or one with a single row, is refused instead of giving an empty table or a
+// meaningless evaluation.
 #pragma once
 
 #include <string>

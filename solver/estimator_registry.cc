@@ -14,6 +14,7 @@
 #include "core/physical_limits.h"
 
 #include "solver/estimator.h"
+#include "solver/imu_gap_guard.h"
 #include "solver/estimators/gravity_ekf_estimator.h"
 #include "solver/estimators/imu_dead_reckoning.h"
 #include "solver/estimators/laser_ekf_estimator.h"
@@ -32,7 +33,7 @@ namespace {
 
 // An entry whose create rejects undeclared options (CheckEstimatorOptions) before constructing,
 // and hands the declared keys to the getters (EstimatorOptions::DeclareFor).
-// Value ranges of the numeric estimator options (issue 17, "Bad options"): a key here is checked
+// Value ranges of the numeric estimator options: a key here is checked
 // for every estimator that declares it, before the estimator is constructed, so that rate_hz=0, a
 // negative noise density or loss_scale=-2 is refused with the option named instead of giving a
 // one-pose trajectory, an allocation failure or a silently different cost. Keys not listed are
@@ -131,6 +132,21 @@ EstimatorEntry Entry(std::string name, std::string description, std::set<std::st
   return entry;
 }
 
+// An estimator that integrates the IMU: the same entry with the imu_gaps option, created inside an
+// ImuGapGuard (solver/imu_gap_guard.h).
+template <typename T>
+EstimatorEntry ImuEntry(std::string name, std::string description, std::set<std::string> options,
+                        std::vector<std::string> prefixes = {}) {
+  options.insert(kImuGapsOption);
+  EstimatorEntry entry = Entry<T>(std::move(name), std::move(description), std::move(options),
+                                  std::move(prefixes));
+  entry.create = [create = entry.create](const EstimatorOptions& given) {
+    return std::unique_ptr<Estimator>(
+        new ImuGapGuard([create, given] { return create(given); }, given));
+  };
+  return entry;
+}
+
 std::set<std::string> Keys(std::initializer_list<std::set<std::string>> groups) {
   std::set<std::string> keys;
   for (const auto& group : groups) keys.insert(group.begin(), group.end());
@@ -156,16 +172,16 @@ const std::set<std::string> kUpright2p = {"threshold_px", "ransac", "max_iterati
 
 const std::vector<EstimatorEntry>& EstimatorRegistry() {
   static const std::vector<EstimatorEntry> kEntries = {
-      Entry<ImuDeadReckoning>("imu-dead-reckoning",
+      ImuEntry<ImuDeadReckoning>("imu-dead-reckoning",
                               "IMU strapdown integration (RK4) from the true initial state; drifts",
                               {"rate_hz"}),
-      Entry<GravityEkfEstimator>("gravity-ekf",
+      ImuEntry<GravityEkfEstimator>("gravity-ekf",
                                  "three-point paper IV: roll, pitch from the IMU (gravity EKF)",
                                  kGravityEkf),
-      Entry<TwoPointEstimator>("two-point",
+      ImuEntry<TwoPointEstimator>("two-point",
                                "three-point paper IV-A: pose from IMU roll/pitch, 2 bearings, D",
                                Keys({kGravityEkf, {"D"}})),
-      Entry<ThreePointEstimator>(
+      ImuEntry<ThreePointEstimator>(
           "three-point", "three-point paper IV-B/C: roll/pitch refined by triangle angles",
           Keys({kGravityEkf,
                 {"D", "bearing_sigma_deg", "gamma1_deg", "gamma2_deg", "max_correction_deg",
@@ -173,10 +189,10 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
       Entry<PnpEstimator>("pnp",
                           "PIXHAWK 3.1/7.2 baseline: vision-only pose from all marker corners",
                           Keys({kBoardInit, {"image_delay_ms"}})),
-      Entry<Upright2pEstimator>("upright-2p",
+      ImuEntry<Upright2pEstimator>("upright-2p",
                                 "PIXHAWK 3.2: IMU roll/pitch + known-vertical 2-point RANSAC + LS",
                                 Keys({kUpright2p, kRollPitchSource, kGravityEkf, kBoardInit})),
-      Entry<PixhawkKfEstimator>(
+      ImuEntry<PixhawkKfEstimator>(
           "pixhawk-kf", "PIXHAWK 3.3/5.1: outlier rejection + 4 x 1-D CV Kalman filters",
           Keys(
               {kUpright2p,
@@ -185,7 +201,7 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
                kBoardInit,
                {"source", "attitude_check_deg", "use_measured_dt", "position_sigma_m",
                 "yaw_sigma_deg", "position_accel_density", "yaw_accel_density", "coast_limit_s"}})),
-      Entry<LaserEkfEstimator>(
+      ImuEntry<LaserEkfEstimator>(
           "laser-ekf", "laser paper 4/C: EKF on the observable modes d, v_o, roll, pitch, alpha",
           {"camera", "init_error_min", "init_error_max", "init_seed", "bearing_sigma_deg",
            "accel_noise_density", "gyro_noise_density", "gz_random_walk", "v_o_random_walk",
@@ -193,7 +209,7 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
       Entry<TagPnpEstimator>("tag-pnp",
                              "AprilTag paper III-A baseline: vision-only PnP on all tags",
                              Keys({kBoardInit, {"camera"}})),
-      Entry<TagEkfEstimator>(
+      ImuEntry<TagEkfEstimator>(
           "tag-ekf", "AprilTag paper II-III: 15-state EKF, per-tag updates, delay handling",
           Keys(
               {kBoardInit, {"init",           "camera",           "use_tags",       "accel_var",
@@ -201,7 +217,7 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
                             "attitude_var",   "compensate_delay", "gate_chi2",      "delay_s",
                             "init_pos_sigma", "init_vel_sigma",   "init_att_sigma", "init_ba_sigma",
                             "init_bg_sigma",  "init_seed",        "init_p0_scale",  "rate_hz"}})),
-      Entry<SmootherEstimator>("smoother",
+      ImuEntry<SmootherEstimator>("smoother",
                                "Ceres batch smoother: Forster preintegration + visual residuals, "
                                "seeded by the closed-form/PnP estimators",
                                {"accel_bias_prior_m_s2",

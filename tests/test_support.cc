@@ -53,6 +53,8 @@ bool HasSharedData() { return std::filesystem::is_directory(SharedDataDir()); }
 
 std::string CliPath() { return MAVLOC_CLI; }
 
+std::string SourceDir() { return MAVLOC_SOURCE; }
+
 std::string ReadFileBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream bytes;

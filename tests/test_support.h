@@ -1,6 +1,6 @@
 // Shared helpers for the test suites: central-difference Jacobians (the one helper every analytic
-// Jacobian is checked with, STYLE.md), paths to the shared real data and the CLI, and a temporary
-// folder per test.
+// Jacobian is checked with, DESIGN.md "Conventions"), paths to the shared real data and the CLI,
+// and a temporary folder per test.
 #pragma once
 
 #include <Eigen/Core>
@@ -24,8 +24,10 @@ Eigen::MatrixXd CentralDifferenceJacobian(
 // ../shared/data (absolute), and whether it exists.
 std::string SharedDataDir();
 bool HasSharedData();
-// The mavloc executable built alongside the tests.
+// The mavloc executable built alongside the tests, and the source tree it was built from (for the
+// schemas and scripts the tests use).
 std::string CliPath();
+std::string SourceDir();
 // A fresh, empty folder under the system temp dir, unique to the running test.
 std::string MakeTempDir();
 // A file's bytes (empty when it cannot be read), and (over)writing a file with the given bytes: the

@@ -4,15 +4,16 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string_view>
 
 #include "core/errors.h"
+#include "core/number_text.h"
 #include "core/physical_limits.h"
 
 namespace fs = std::filesystem;
@@ -51,10 +52,9 @@ size_t Split(std::string_view line, std::array<std::string_view, 12>* fields) {
 
 std::optional<TimeNs> ParseTimestamp(std::string_view text) {
   if (text.empty() || text.front() == '-' || text.front() == '+') return std::nullopt;
-  TimeNs value = 0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
-  return value;
+  const ParsedNumber<long long> value = ParseIntegerText(text);
+  if (!value.ok()) return std::nullopt;
+  return value.value;
 }
 
 class FileParser {
@@ -63,29 +63,29 @@ class FileParser {
              const AprilgridCornerFileOptions& options, TimeNs t_ns)
       : path_(path), target_(target), options_(options), t_ns_(t_ns) {}
 
+  // column: an index of kColumns, one past them (an extra column), or -1 (no field).
   [[noreturn]] void Fail(long line, int column, const std::string& message) const {
-    throw InputError(path_, line, column >= 0 ? kColumns[column] : "", message);
+    const int count = static_cast<int>(kColumns.size());
+    throw InputError(path_, line,
+                     column < 0       ? ""
+                     : column < count ? std::string(kColumns[column])
+                                      : "column " + std::to_string(column + 1),
+                     message);
   }
 
   double Number(long line, int column, std::string_view text) const {
-    std::string_view digits = text;
-    if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
-    double value = 0.0;
-    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-    if (digits.empty() || error == std::errc::invalid_argument ||
-        end != digits.data() + digits.size())
-      Fail(line, column, fmt::format("'{}' is not a number", text));
-    if (error == std::errc::result_out_of_range || !std::isfinite(value))
-      Fail(line, column, fmt::format("'{}' is not finite", text));
-    return value;
+    const ParsedNumber<double> value = ParseDoubleText(text);
+    if (!value.ok()) Fail(line, column, DescribeNumberText(text, value));
+    return value.value;
   }
 
   int Integer(long line, int column, std::string_view text) const {
-    int value = 0;
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (text.empty() || error != std::errc() || end != text.data() + text.size())
-      Fail(line, column, fmt::format("'{}' is not an integer", text));
-    return value;
+    const ParsedNumber<long long> value = ParseIntegerText(text);
+    if (!value.ok()) Fail(line, column, DescribeNumberText(text, value, "an integer"));
+    if (value.value < std::numeric_limits<int>::min() ||
+        value.value > std::numeric_limits<int>::max())
+      Fail(line, column, fmt::format("'{}' is out of range (not an int)", text));
+    return static_cast<int>(value.value);
   }
 
   void Header(long line, std::string_view text) const {
@@ -101,14 +101,15 @@ class FileParser {
                          k + 1, k < count ? std::string(names[k]) : "", kColumns[k]));
     }
     if (count != kColumns.size())
-      Fail(line, -1, fmt::format("header has {} columns, expected 12", count));
+      Fail(line, static_cast<int>(kColumns.size()),
+           fmt::format("header has {} columns, expected 12", count));
   }
 
   void Row(long line, std::string_view text) {
     std::array<std::string_view, 12> f;
     const size_t count = Split(text, &f);
     if (count != kColumns.size())
-      Fail(line, count < kColumns.size() ? static_cast<int>(count) : -1,
+      Fail(line, static_cast<int>(std::min(count, kColumns.size())),
            fmt::format("expected 12 columns, found {}", count));
     const auto ts = ParseTimestamp(f[kTs]);
     if (!ts) Fail(line, kTs, fmt::format("'{}' is not a timestamp in nanoseconds", f[kTs]));

@@ -14,6 +14,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "core/number_text.h"
 #include "core/physical_limits.h"
 #include "core/rotation.h"
 #include "datasets/io/calibration_io.h"
@@ -92,6 +93,23 @@ ImuSensor ReadImu(const fs::path& folder) {
   return imu;
 }
 
+// An image of cam*/data.csv is a file of cam*/data/: a plain name, so that no row reaches outside
+// the dataset ("../../etc/passwd", "/etc/passwd") or names the folder itself ("", ".").
+void RequirePlainFileName(const TextTable& table, const TextRow& row, size_t k) {
+  const std::string& name = row.fields[k];
+  const std::string shown = PrintableMessage(name, 200);  // what() would end at a NUL byte
+  std::string why;
+  if (name.empty())
+    why = "empty image file name";
+  else if (name == "." || name == "..")
+    why = "'" + name + "' is a folder, not an image file name";
+  else if (name.find_first_of(std::string("/\\\0", 3)) != std::string::npos)
+    why = "'" + shown +
+          "' is not a plain file name (no '/', '\\' or NUL byte: images are files of "
+          "the camera's data/ folder)";
+  if (!why.empty()) throw InputError(table.path, row.line, table.FieldName(k), why);
+}
+
 CameraSensor ReadCamera(const fs::path& folder) {
   CameraSensor camera;
   camera.name = folder.filename().string();
@@ -143,6 +161,7 @@ CameraSensor ReadCamera(const fs::path& folder) {
   table.RequireIncreasing(t, lines);
   for (size_t i = 0; i < table.rows.size(); ++i) {
     table.RequireFields(table.rows[i], 2);
+    RequirePlainFileName(table, table.rows[i], 1);
     const fs::path image = folder / "data" / table.rows[i].fields[1];
     camera.frames.push_back({t[i], image.string()});
     std::error_code error;  // a name the file system cannot hold (too long) is missing, not fatal
@@ -262,8 +281,8 @@ std::vector<TagObservation> ReadTags(const std::string& path, int camera,
 // Header fields "name [unit]" -> name, unit.
 QuantityTable ReadTruthQuantities(const std::string& path) {
   const TextTable table = ReadTextTable(path, Separator::kComma, true);
-  // The header names the quantities: without it the columns mean nothing (a missing or short
-  // header used to drop the file silently).
+  // The header names the quantities: without it the columns mean nothing, so a missing or short
+  // header is an error rather than a silently dropped file.
   if (table.header.size() < 2)
     throw InputError(path, 1, "header",
                      "missing: the first line must name the columns, e.g. '#timestamp [ns],d [m]'");
@@ -274,6 +293,11 @@ QuantityTable ReadTruthQuantities(const std::string& path) {
     const auto close = field.find(']');
     std::string name = field.substr(0, open);
     while (!name.empty() && name.back() == ' ') name.pop_back();
+    if (name.empty())
+      throw InputError(path, 1, "column " + std::to_string(k + 1),
+                       fmt::format("header column {} has no quantity name ('{}'); every column "
+                                   "after the timestamp names one, e.g. 'd [m]'",
+                                   k + 1, field));
     if (std::find(names.begin(), names.end(), name) != names.end())
       throw InputError(path, 1, table.FieldName(k),
                        "quantity '" + name + "' is named twice in the header");
@@ -401,7 +425,7 @@ WorldMap ReadMap(const std::string& path) {
 
 // The scenario.yaml values an estimator reads as numbers (the smoother's measurement noise, the
 // tag EKF's processing delay), with their ranges: checked here, once, so that "-1", "lots" or
-// ".nan" is refused with the line instead of becoming a default or a clamp (issue 17, class 2).
+// ".nan" is refused with the line instead of becoming a default or a clamp.
 // A value is its leading number; words after it describe it ("1 per bearing angle (...)").
 struct ScenarioNumberField {
   const char* key;
@@ -419,12 +443,12 @@ constexpr ScenarioNumberField kScenarioNumberFields[] = {
 void CheckScenarioNumber(const YAML::Node& yaml, const ScenarioNumberField& field,
                          const std::string& text, const std::string& path) {
   const long line = YamlLine(yaml[field.key]);
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  const bool number = end != text.c_str() && (*end == '\0' || std::isspace(*end));
-  if (!number || !std::isfinite(value))
-    throw InputError(path, line, field.key,
-                     "'" + text + "' is not a finite number (an estimator reads it)");
+  const ParsedNumber<double> parsed = ParseDoubleText(FirstWord(text));
+  if (!parsed.ok())
+    throw InputError(
+        path, line, field.key,
+        DescribeNumberText(text, parsed, "a finite number") + " (an estimator reads it)");
+  const double value = parsed.value;
   if (!(value >= field.lo && value <= field.hi))
     throw InputError(path, line, field.key,
                      fmt::format("{:g} is outside {}", value,
@@ -456,7 +480,7 @@ auto NamingFile(const std::string& path, Function read) {
 }
 
 // Features must name landmarks of the map when the map lists landmarks (otherwise the smoother and
-// the landmark estimators used to drop out of the comparison without a word).
+// the landmark estimators would drop out of the comparison without a word).
 void RequireFeaturesInMap(const Dataset& d, const std::string& features_path,
                           const std::vector<long>& lines) {
   if (d.map.landmarks_W.empty()) return;

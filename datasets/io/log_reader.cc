@@ -3,11 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <charconv>
 #include <filesystem>
 #include <fstream>
 
 #include "core/errors.h"
+#include "core/number_text.h"
 #include "core/progress.h"
 #include "datasets/io/rosbag/rosbag_reader.h"
 #include "datasets/io/ulog/ulog_reader.h"
@@ -49,12 +49,11 @@ UlogProgress UlogProgressLine(const std::string& path) {
 }
 
 int ParseInstance(const std::string& spec, const std::string& text) {
-  int value = -1;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc() || end != text.data() + text.size() || value < 0 || value > 255)
+  const ParsedNumber<long long> value = ParseIntegerText(text);
+  if (!value.ok() || value.value < 0 || value.value > 255)
     throw InputError(spec, 0, "instance",
                      "'" + text + "' is not a ULog multi-instance index (0..255)");
-  return value;
+  return static_cast<int>(value.value);
 }
 
 }  // namespace

@@ -1,13 +1,12 @@
 #include "datasets/io/text_table.h"
 
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "core/errors.h"
+#include "core/number_text.h"
 #include "core/physical_limits.h"
 #include "core/text.h"
 
@@ -28,20 +27,6 @@ std::vector<std::string> Split(const std::string& line, Separator separator) {
     while (stream >> field) fields.push_back(field);
   }
   return fields;
-}
-
-enum class WholeInteger { kOk, kNotInteger, kTooLarge, kTooSmall };
-
-// The whole text as a base-10 integer that fits a long long; an integer beyond it is kTooLarge
-// (or kTooSmall when negative), so a message can say it is beyond the range rather than "not an
-// integer".
-WholeInteger ParseWholeInteger(const std::string& text, long long* value) {
-  char* end = nullptr;
-  errno = 0;
-  *value = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || end == text.c_str() || *end != '\0') return WholeInteger::kNotInteger;
-  if (errno == ERANGE) return *value < 0 ? WholeInteger::kTooSmall : WholeInteger::kTooLarge;
-  return WholeInteger::kOk;
 }
 
 std::string TimestampBeyond(const std::string& text, const std::string& unit) {
@@ -69,16 +54,7 @@ void TextTable::RequireFields(const TextRow& row, size_t count) const {
 
 double TextTable::Number(const TextRow& row, size_t k) const {
   RequireFields(row, k + 1);
-  const std::string& text = row.fields[k];
-  if (text.empty()) throw InputError(path, row.line, FieldName(k), "empty value");
-  char* end = nullptr;
-  errno = 0;
-  const double value = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0')
-    throw InputError(path, row.line, FieldName(k), "'" + text + "' is not a number");
-  if (!std::isfinite(value) || errno == ERANGE)
-    throw InputError(path, row.line, FieldName(k), "'" + text + "' is not finite");
-  return value;
+  return RequireDoubleText(row.fields[k], path, row.line, FieldName(k));
 }
 
 double TextTable::NumberIn(const TextRow& row, size_t k, double lo, double hi,
@@ -93,29 +69,28 @@ double TextTable::NumberIn(const TextRow& row, size_t k, double lo, double hi,
 int TextTable::Id(const TextRow& row, size_t k) const {
   RequireFields(row, k + 1);
   const std::string& text = row.fields[k];
-  long long value = 0;
-  const WholeInteger parsed = ParseWholeInteger(text, &value);
-  if (parsed == WholeInteger::kNotInteger)
-    throw InputError(path, row.line, FieldName(k), "'" + text + "' is not an integer id");
-  if (parsed != WholeInteger::kOk || value < 0 || value > limits::kMaxId)
+  const ParsedNumber<long long> parsed = ParseIntegerText(text);
+  if (parsed.status != NumberTextStatus::kOk && parsed.status != NumberTextStatus::kOverflow)
+    throw InputError(path, row.line, FieldName(k),
+                     DescribeNumberText(text, parsed, "an integer id"));
+  if (!parsed.ok() || parsed.value < 0 || parsed.value > limits::kMaxId)
     throw InputError(path, row.line, FieldName(k),
                      "id " + text + " is outside [0, " + std::to_string(limits::kMaxId) + "]");
-  return static_cast<int>(value);
+  return static_cast<int>(parsed.value);
 }
 
 TimeNs TextTable::TimestampNs(const TextRow& row, size_t k) const {
   RequireFields(row, k + 1);
   const std::string& text = row.fields[k];
-  long long value = 0;
-  const WholeInteger parsed = ParseWholeInteger(text, &value);
-  if (parsed == WholeInteger::kNotInteger)
+  const ParsedNumber<long long> parsed = ParseIntegerText(text);
+  const bool negative = !text.empty() && text.front() == '-';
+  if (parsed.status != NumberTextStatus::kOk && parsed.status != NumberTextStatus::kOverflow)
     throw InputError(path, row.line, FieldName(k),
-                     "'" + text + "' is not an integer timestamp in nanoseconds");
-  if (parsed == WholeInteger::kTooSmall || value < 0)
-    throw InputError(path, row.line, FieldName(k), "negative timestamp");
-  if (parsed == WholeInteger::kTooLarge || value > limits::kMaxTimestampNs)
+                     DescribeNumberText(text, parsed, "an integer timestamp in nanoseconds"));
+  if (negative) throw InputError(path, row.line, FieldName(k), "negative timestamp");
+  if (!parsed.ok() || parsed.value > limits::kMaxTimestampNs)
     throw InputError(path, row.line, FieldName(k), TimestampBeyond(text, "ns"));
-  return value;
+  return parsed.value;
 }
 
 TimeNs TextTable::SecondsAsNs(const TextRow& row, size_t k) const {
@@ -129,12 +104,12 @@ TimeNs TextTable::SecondsAsNs(const TextRow& row, size_t k) const {
     return s.find_first_not_of("0123456789") == std::string::npos;
   };
   if (!integer.empty() && digits(integer) && digits(fraction) && integer.size() < 11) {
-    const long long whole_s = std::stoll(integer);  // at most 10 digits: no overflow
+    const long long whole_s = ParseIntegerText(integer).value;  // at most 10 digits: no overflow
     if (whole_s >= limits::kMaxTimestampNs / kNsPerSecond)
       throw InputError(path, row.line, FieldName(k), TimestampBeyond(text, "s"));
     std::string nanos = fraction.substr(0, 9);
     nanos.resize(9, '0');
-    TimeNs t = whole_s * kNsPerSecond + std::stoll(nanos);
+    TimeNs t = whole_s * kNsPerSecond + ParseIntegerText(nanos).value;
     if (fraction.size() > 9 && fraction[9] >= '5') ++t;
     return t;
   }

@@ -1,16 +1,17 @@
 #include "datasets/io/yaml_util.h"
 
 #include <fmt/format.h>
+#include <yaml-cpp/depthguard.h>
 
 #include <Eigen/Geometry>
-#include <cerrno>
-#include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string_view>
 
 #include "core/errors.h"
+#include "core/input_limits.h"
+#include "core/number_text.h"
 #include "core/physical_limits.h"
 
 namespace mavloc {
@@ -50,6 +51,47 @@ YAML::Node Scalar(const YAML::Node& node, const std::string& field, const std::s
   return value;
 }
 
+// A YAML scalar as a number: YAML's own spellings of infinity and NaN (".inf", "-.Inf", ".nan",
+// ...) are not finite; everything else is read whole by the strict parser (core/number_text.h).
+ParsedNumber<double> ParseYamlNumber(const std::string& text) {
+  std::string_view body = text;
+  if (!body.empty() && (body.front() == '+' || body.front() == '-')) body.remove_prefix(1);
+  for (const char* special : {".inf", ".Inf", ".INF", ".nan", ".NaN", ".NAN"})
+    if (body == special) return {0.0, NumberTextStatus::kNotFinite};
+  return ParseDoubleText(text);
+}
+
+}  // namespace
+
+namespace {
+
+std::string TooDeep() {
+  return fmt::format("YAML nests deeper than {} levels (limit input_limits::kMaxYamlNesting)",
+                     input_limits::kMaxYamlNesting);
+}
+
+// Refuses a document nested deeper than input_limits::kMaxYamlNesting or with more than
+// kMaxYamlNodes nodes, counting a node once per alias that repeats it: yaml-cpp shares an aliased
+// node, so a few lines of aliases of aliases describe billions of nodes for a reader that walks
+// them. The walk stops at the first node beyond a limit.
+void CheckYamlShape(const YAML::Node& node, const std::string& path, int depth, uint64_t* nodes) {
+  if (++*nodes > input_limits::kMaxYamlNodes) {
+    throw InputError(path, YamlLine(node), "",
+                     fmt::format("YAML document has more than {} nodes, counting each repetition "
+                                 "by an alias (limit input_limits::kMaxYamlNodes)",
+                                 input_limits::kMaxYamlNodes));
+  }
+  if (depth > input_limits::kMaxYamlNesting) throw InputError(path, YamlLine(node), "", TooDeep());
+  if (node.IsSequence()) {
+    for (const YAML::Node& child : node) CheckYamlShape(child, path, depth + 1, nodes);
+  } else if (node.IsMap()) {
+    for (const auto& item : node) {
+      CheckYamlShape(item.first, path, depth + 1, nodes);
+      CheckYamlShape(item.second, path, depth + 1, nodes);
+    }
+  }
+}
+
 }  // namespace
 
 long YamlLine(const YAML::Node& node) {
@@ -74,11 +116,17 @@ YAML::Node LoadYamlFile(const std::string& path) {
     text << line << '\n';
   }
   if (in.bad()) throw InputError(path, 0, "", "cannot read file");
+  YAML::Node root;
   try {
-    return YAML::Load(text.str());
+    root = YAML::Load(text.str());
+  } catch (const YAML::DeepRecursion& e) {  // yaml-cpp's own depth guard ("bad file")
+    throw InputError(path, e.mark.line + 1, "", TooDeep());
   } catch (const YAML::Exception& e) {
     throw InputError(path, e.mark.line + 1, "", "invalid YAML: " + e.msg);
   }
+  uint64_t nodes = 0;
+  CheckYamlShape(root, path, 0, &nodes);
+  return root;
 }
 
 YAML::Node LoadYamlMap(const std::string& path) {
@@ -114,15 +162,10 @@ YAML::Node YamlListField(const YAML::Node& node, const std::string& field,
 
 double YamlDouble(const YAML::Node& node, const std::string& field, const std::string& path) {
   const YAML::Node value = Scalar(node, field, path);
-  double x = 0.0;
-  try {
-    x = value.as<double>();
-  } catch (const YAML::Exception&) {
-    throw InputError(path, YamlLine(value), field, "'" + value.Scalar() + "' is not a number");
-  }
-  if (!std::isfinite(x))
-    throw InputError(path, YamlLine(value), field, "'" + value.Scalar() + "' is not finite");
-  return x;
+  const ParsedNumber<double> x = ParseYamlNumber(value.Scalar());
+  if (!x.ok())
+    throw InputError(path, YamlLine(value), field, DescribeNumberText(value.Scalar(), x));
+  return x.value;
 }
 
 double YamlDoubleIn(const YAML::Node& node, const std::string& field, const std::string& path,
@@ -137,12 +180,7 @@ double YamlDoubleIn(const YAML::Node& node, const std::string& field, const std:
 long long YamlInteger(const YAML::Node& node, const std::string& field, const std::string& path,
                       long long lo, long long hi) {
   const YAML::Node value = Scalar(node, field, path);
-  const std::string& text = value.Scalar();
-  char* end = nullptr;
-  errno = 0;
-  const long long x = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || end == text.c_str() || *end != '\0' || errno == ERANGE)
-    throw InputError(path, YamlLine(value), field, "'" + text + "' is not an integer");
+  const long long x = RequireIntegerText(value.Scalar(), path, YamlLine(value), field);
   if (x < lo || x > hi)
     throw InputError(path, YamlLine(value), field,
                      fmt::format("{} is outside [{}, {}]", x, lo, hi));
@@ -168,17 +206,11 @@ std::vector<double> YamlDoubles(const YAML::Node& node, const std::string& field
     if (!item.IsScalar())
       throw InputError(path, YamlLine(item), field,
                        std::string("list holds ") + KindName(item) + ", not a number");
-    double x = 0.0;
-    try {
-      x = item.as<double>();
-    } catch (const YAML::Exception&) {
+    const ParsedNumber<double> x = ParseYamlNumber(item.Scalar());
+    if (!x.ok())
       throw InputError(path, YamlLine(item), field,
-                       "list holds '" + item.Scalar() + "', which is not a number");
-    }
-    if (!std::isfinite(x))
-      throw InputError(path, YamlLine(item), field,
-                       "list holds '" + item.Scalar() + "', which is not finite");
-    out.push_back(x);
+                       "list item " + DescribeNumberText(item.Scalar(), x));
+    out.push_back(x.value);
   }
   if (expected_size > 0 && out.size() != expected_size) {
     throw InputError(path, YamlLine(value), field,

@@ -1,6 +1,6 @@
 // yaml-cpp helpers: loading files that start with OpenCV's "%YAML:1.0" line (EuRoC/Kimera), and
-// typed field access whose errors name the file, the line and the field (issue 17, class 1: a node
-// of the wrong type is an InputError, never yaml-cpp's exception escaping as "internal error").
+// typed field access whose errors name the file, the line and the field (a node of the
+// wrong type is an InputError, never yaml-cpp's exception escaping as "internal error").
 #pragma once
 
 #include <yaml-cpp/yaml.h>

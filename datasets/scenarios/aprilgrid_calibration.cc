@@ -13,6 +13,7 @@
 #include "core/board_frame.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "core/number_text.h"
 #include "core/progress.h"
 #include "core/random.h"
 #include "core/rotation.h"
@@ -215,11 +216,27 @@ std::string PoseText(const Pose& T) {
                      T.p.z(), q.w(), q.x(), q.y(), q.z());
 }
 
-std::optional<Pose> PoseFromText(const std::string& text) {
-  std::istringstream in(text);
-  double v[7];
-  for (double& x : v)
-    if (!(in >> x)) return std::nullopt;
+// The `count` blank-separated numbers of a scenario_info value (PoseText, "x y z"), each read
+// whole; InputError naming scenario.yaml and the key otherwise.
+std::vector<double> NumbersOfSetting(const std::string& text, size_t count,
+                                     const std::string& key) {
+  std::vector<double> values;
+  std::istringstream words(text);
+  std::string word;
+  while (words >> word) {
+    const ParsedNumber<double> value = ParseDoubleText(word);
+    if (!value.ok()) throw InputError("scenario.yaml", 0, key, DescribeNumberText(word, value));
+    values.push_back(value.value);
+  }
+  if (values.size() != count)
+    throw InputError(
+        "scenario.yaml", 0, key,
+        fmt::format("expected {} numbers, found {} in '{}'", count, values.size(), text));
+  return values;
+}
+
+Pose PoseFromText(const std::string& text, const std::string& key) {
+  const std::vector<double> v = NumbersOfSetting(text, 7, key);
   return Pose(QuaternionFromWxyz(v[3], v[4], v[5], v[6]).normalized(),
               Eigen::Vector3d(v[0], v[1], v[2]));
 }
@@ -423,18 +440,14 @@ std::optional<AprilgridCalibrationTruth> AprilgridCalibrationTruthOf(const Datas
   const auto cam0 = get("cam0_T_B_C_true"), cam1 = get("cam1_T_B_C_true");
   const auto offset = get("time_offset_s"), up = get("board_up_M");
   if (!cam0 || !cam1 || !offset || !up) return std::nullopt;
+  // A dataset carrying the keys carries the truth: a value that is not its numbers is an error,
+  // never "no truth".
   AprilgridCalibrationTruth truth;
-  const auto T0 = PoseFromText(*cam0), T1 = PoseFromText(*cam1);
-  if (!T0 || !T1) return std::nullopt;
-  truth.T_B_C[0] = *T0;
-  truth.T_B_C[1] = *T1;
-  std::istringstream up_in(*up);
-  if (!(up_in >> truth.up_M.x() >> truth.up_M.y() >> truth.up_M.z())) return std::nullopt;
-  try {
-    truth.time_offset_s = std::stod(*offset);
-  } catch (...) {
-    return std::nullopt;
-  }
+  truth.T_B_C[0] = PoseFromText(*cam0, "cam0_T_B_C_true");
+  truth.T_B_C[1] = PoseFromText(*cam1, "cam1_T_B_C_true");
+  const std::vector<double> up_M = NumbersOfSetting(*up, 3, "board_up_M");
+  truth.up_M = Eigen::Vector3d(up_M[0], up_M[1], up_M[2]);
+  truth.time_offset_s = NumbersOfSetting(*offset, 1, "time_offset_s")[0];
   return truth;
 }
 

@@ -1,4 +1,4 @@
-// Scenario "aprilgrid-calibration": a Kalibr-style camera-IMU calibration log (issue 12). A
+// Scenario "aprilgrid-calibration": a Kalibr-style camera-IMU calibration log. A
 // stereo rig with EuRoC's cam0 and cam1 (intrinsics, radial-tangential distortion and T_B_C of
 // mav0/cam{0,1}/sensor.yaml) and an ADIS16448-like IMU is waved in front of a 6 x 6 aprilgrid
 // (core/aprilgrid.h: tag 0.088 m, spacing 0.3) hung on a wall. The map is the board

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <map>
+#include <optional>
 #include <stdexcept>
 
 #include "core/errors.h"
@@ -46,6 +47,34 @@ std::string ScenarioOptions::GetString(const std::string& key, const std::string
   return GetStringSetting(settings, key, fallback);
 }
 
+namespace {
+
+// A numeric setting's value, or nullopt for settings that are words (imu=..., bias=on).
+std::optional<double> GetDoubleSettingIfNumeric(const std::map<std::string, std::string>& settings,
+                                                const std::string& key) {
+  for (const auto& range : ScenarioSettingRanges())
+    if (EndsWith(key, range.suffix)) return GetDoubleSetting(settings, key, 0.0);
+  return std::nullopt;
+}
+
+// The magnitude of a setting against the range of its unit (ScenarioSettingRanges): a value the
+// simulator would turn into data that no reader accepts (a pixel noise of 1e308 px) is refused here,
+// naming the setting, before anything is generated.
+void CheckSettingMagnitude(const std::string& key, const std::string& text,
+                           std::optional<double> value) {
+  if (!value) return;
+  for (const auto& range : ScenarioSettingRanges()) {
+    if (!EndsWith(key, range.suffix)) continue;
+    if (!(*value >= range.lo && *value <= range.hi))
+      throw InputError(fmt::format("--set {}={}: outside [{:g}, {:g}] {}, the simulator's limits "
+                                   "for a setting in {} (datasets/scenarios/scenario.h)",
+                                   key, text, range.lo, range.hi, range.unit, range.unit));
+    return;
+  }
+}
+
+}  // namespace
+
 void CheckScenarioOptions(const ScenarioEntry& entry, const ScenarioOptions& options) {
   for (const auto& [key, value] : options.settings) {
     if (!entry.settings.count(key))
@@ -53,12 +82,14 @@ void CheckScenarioOptions(const ScenarioEntry& entry, const ScenarioOptions& opt
                        " has no setting '" + key + "' (known: " + JoinKeys(entry.settings) + ")");
     if (EndsWith(key, "_rate_hz")) {
       const double rate_hz = GetDoubleSetting(options.settings, key, 0.0);
-      if (!(rate_hz > 0.0 && rate_hz <= kMaxScenarioRateHz))
+      if (!(rate_hz >= kMinScenarioRateHz && rate_hz <= kMaxScenarioRateHz))
         throw InputError(
-            fmt::format("--set {}={}: outside (0, {}] Hz, the simulator's limit "
-                        "(kMaxScenarioRateHz, datasets/scenarios/scenario.h)",
-                        key, value, kMaxScenarioRateHz));
+            fmt::format("--set {}={}: outside [{}, {}] Hz, the simulator's limits "
+                        "(datasets/scenarios/scenario.h)",
+                        key, value, kMinScenarioRateHz, kMaxScenarioRateHz));
+      continue;
     }
+    CheckSettingMagnitude(key, value, GetDoubleSettingIfNumeric(options.settings, key));
   }
   // Counts and sizes (datasets/scenarios/scenario.h): a huge value would only end in an
   // allocation failure after minutes of work.

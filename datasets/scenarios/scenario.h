@@ -20,7 +20,7 @@ namespace mavloc {
 // Start time of every simulated scenario: 1000 s, positive EuRoC-like stamps.
 inline constexpr TimeNs kScenarioStartNs = 1'000'000'000'000;
 
-// Sanity limits of a simulated dataset (issue 17, "Options"), the one place they are stated. A
+// Sanity limits of a simulated dataset, the one place they are stated. A
 // dataset is generated in memory and then written as CSV: an IMU or ground-truth row takes ~100
 // bytes in memory and ~120 bytes of text, so an hour at the fastest rate allowed (1000 Hz) is
 // 3.6e6 rows per stream, ~0.4 GB of memory and ~0.4 GB of CSV each for IMU and ground truth, and
@@ -28,6 +28,33 @@ inline constexpr TimeNs kScenarioStartNs = 1'000'000'000'000;
 // refused before any work (`--duration`, and every `--set *_rate_hz`).
 inline constexpr double kMaxScenarioDurationS = 3600.0;
 inline constexpr double kMaxScenarioRateHz = 1000.0;
+// A slower stream holds too few samples to estimate anything over a scenario of minutes.
+inline constexpr double kMinScenarioRateHz = 1.0;
+
+// The range of a numeric `--set` value by the unit its name ends in (`pixel_noise_px`,
+// `tilt_deg`, ...): wide enough for any study, narrow enough that the simulated data stays within
+// what the dataset readers accept (core/physical_limits.h). The first matching suffix applies.
+struct ScenarioSettingRange {
+  const char* suffix;
+  double lo, hi;
+  const char* unit;
+};
+inline const std::vector<ScenarioSettingRange>& ScenarioSettingRanges() {
+  static const std::vector<ScenarioSettingRange> kRanges = {
+      {"_deg_s", -5000.0, 5000.0, "deg/s"},  // below 100 rad/s, the IMU reader's limit
+      {"_deg", -360.0, 360.0, "deg"},
+      {"_px", 0.0, 10000.0, "px"},
+      {"_m_s2", -200.0, 200.0, "m/s^2"},
+      {"_m_s", -1000.0, 1000.0, "m/s"},
+      {"_ms", -60000.0, 60000.0, "ms"},
+      {"_m", -10000.0, 10000.0, "m"},
+      {"_offset_s", -60.0, 60.0, "s"},
+      {"_s", 0.0, 3600.0, "s"},
+      {"_fraction", 0.0, 1.0, ""},
+      {"_grey", 0.0, 255.0, "grey levels"},
+  };
+  return kRanges;
+}
 // Counts and sizes, refused above these before any work (`--set`): landmarks of mav-figure-eight
 // (a feature row is ~50 bytes in memory; 1000 landmarks, a third in view, at 20 Hz for an hour are
 // 2.2e7 rows, ~1 GB, against 4e6 for the default 200), and the tag renderer's samples per pixel

@@ -107,7 +107,7 @@ const std::vector<ScenarioEntry>& ScenarioRegistry() {
             {"data", "alpha_deg", "L", "clearance_m", "camera_rate_hz", "bearing_noise_deg", "imu"},
             GenerateEurocLaser),
       Entry("aprilgrid-calibration",
-            "issue 12: stereo rig waved before a tilted 6x6 aprilgrid (board map), "
+            "stereo rig waved before a tilted 6x6 aprilgrid (board map), "
             "known T_B_C and time offset; IMU 200 Hz, cams 20 Hz",
             {"pixel_noise_px", "imu_noise", "bias", "time_offset_ms", "extrinsics_error_m",
              "extrinsics_error_deg", "board_roll_deg", "board_pitch_deg", "distance_m",

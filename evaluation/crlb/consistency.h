@@ -1,4 +1,4 @@
-// Consistency of an estimator's own covariances over Monte-Carlo runs (issue 15; Bar-Shalom, Li,
+// Consistency of an estimator's own covariances over Monte-Carlo runs (Bar-Shalom, Li,
 // Kirubarajan, "Estimation with Applications to Tracking and Navigation", 2001, sec. 5.4.2): the
 // normalised estimation error squared NEES_k = e_k^T P_k^-1 e_k per time step (position x y z and
 // attitude roll pitch yaw, 3 dof each), averaged over the N runs (ANEES, not divided by the dof:

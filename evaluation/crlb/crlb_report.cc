@@ -109,13 +109,16 @@ std::vector<double> LaserBoundRms(const SmootherCrlb& bound, bool filtering) {
   return out;
 }
 
+// RMS of the bound's standard deviations over the keyframes that have both bounds (the filtering
+// bound starts after its initialisation), so that the smoothing and filtering rows compare the
+// same keyframes (the filtering bound is then never below the smoothing bound).
 std::vector<std::pair<std::string, double>> BoundQuantityRms(const SmootherCrlb& bound,
-                                                             bool filtering) {
+                                                             bool filtering, int* keyframes) {
   std::vector<double> sum(kNames.size(), 0.0);
   int n = 0;
   for (const CrlbKeyframe& kf : bound.keyframes) {
-    const Matrix15d* C = filtering ? (kf.filtering ? &*kf.filtering : nullptr) : &kf.smoothing;
-    if (!C) continue;
+    if (!kf.filtering) continue;
+    const Matrix15d* C = filtering ? &*kf.filtering : &kf.smoothing;
     const CrlbSigmas s = SigmasOf(*C, kf.T_W_B.q);
     for (int i = 0; i < 3; ++i) {
       sum[i] += s.xyz_m[i] * s.xyz_m[i];
@@ -129,6 +132,7 @@ std::vector<std::pair<std::string, double>> BoundQuantityRms(const SmootherCrlb&
   std::vector<std::pair<std::string, double>> out;
   for (size_t i = 0; i < kNames.size(); ++i)
     out.emplace_back(kNames[i], n > 0 ? std::sqrt(sum[i] / n) : std::nan(""));
+  *keyframes = n;
   return out;
 }
 
@@ -151,13 +155,15 @@ CrlbReport MakeCrlbReport(const Dataset& dataset,
   if (bound.laser_only) return MakeLaserCrlbReport(bound, evaluations);
   report.available = true;
   // Per-quantity bounds (display units: mm, deg, mm/s, deg/s, mm/s^2).
-  const auto smoothing = BoundQuantityRms(bound, false);
-  const auto filtering = BoundQuantityRms(bound, true);
+  int common_keyframes = 0;
+  const auto smoothing = BoundQuantityRms(bound, false, &common_keyframes);
+  const auto filtering = BoundQuantityRms(bound, true, &common_keyframes);
   const auto scale = [](size_t i) {
     return i < 3 ? 1e3 : i < 6 ? 1.0 / kDeg : i < 9 ? 1e3 : i < 12 ? 1.0 / kDeg : 1e3;
   };
   std::vector<std::string> header = {"bound"};
   for (size_t i = 0; i < kNames.size(); ++i) header.push_back(kNames[i]);
+  header.push_back("keyframes");
   std::vector<std::vector<std::string>> quantity_rows;
   nlohmann::json qj;
   for (const auto& [label, values] :
@@ -167,6 +173,8 @@ CrlbReport MakeCrlbReport(const Dataset& dataset,
       row.push_back(FormatNumber((*values)[i].second * scale(i), 3));
       qj[label][(*values)[i].first] = (*values)[i].second;
     }
+    row.push_back(std::to_string(common_keyframes));
+    qj[label]["keyframes"] = common_keyframes;
     quantity_rows.push_back(row);
   }
   // Efficiency per estimator.

@@ -1,4 +1,4 @@
-// The Cramér–Rao section of a `mavloc compare` report (issue 15): on a simulated dataset the
+// The Cramér–Rao section of a `mavloc compare` report: on a simulated dataset the
 // smoother's bound (evaluation/crlb/smoother_bound.h), per quantity as a standard deviation (RMS
 // over the keyframes) for smoothing and filtering, and every estimator's RMSE / bound at the
 // keyframes where it has a pose (smoother: smoothing bound; causal estimators: filtering bound).
@@ -29,11 +29,11 @@ CrlbReport MakeCrlbReport(const Dataset& dataset,
                           const std::vector<EstimatorEvaluation>& evaluations,
                           const EstimatorOptions& smoother_options);
 
-// Per-quantity RMS over the keyframes of the bound's standard deviations (x y z [m], roll pitch
-// yaw [rad], vx vy vz [m/s], bgx.. [rad/s], bax.. [m/s^2]); filtering over the keyframes where
-// it exists.
+// Per-quantity RMS of the bound's standard deviations (x y z [m], roll pitch yaw [rad], vx vy vz
+// [m/s], bgx.. [rad/s], bax.. [m/s^2]), smoothing or filtering, over the keyframes that have both
+// bounds (their count in *keyframes), so that the two compare the same keyframes.
 std::vector<std::pair<std::string, double>> BoundQuantityRms(const SmootherCrlb& bound,
-                                                             bool filtering);
+                                                             bool filtering, int* keyframes);
 
 // Laser-only data: RMS over the keyframes of the bound's standard deviation of d [m], v_o [m/s],
 // roll, pitch, alpha [rad] (LaserQuantityNames); filtering over the keyframes where it exists;

@@ -1,4 +1,4 @@
-// Efficiency of an estimator against a Cramér–Rao bound (issue 15): squared errors and bound
+// Efficiency of an estimator against a Cramér–Rao bound: squared errors and bound
 // variances summed over the keyframes where both exist, and over Monte-Carlo runs, before the
 // ratio RMSE / bound = sqrt(sum |e|^2 / sum trace(C)). trace(C) of the position (attitude) block
 // bounds the mean squared position error (rotation angle, R_true^T R_est) of any unbiased

@@ -1,5 +1,5 @@
-// The laser-spot pieces of the smoother's Cramér–Rao bound (issue 15; evaluation/crlb/
-// smoother_bound.h assembles them). Laser-only data (laser-plane, euroc-laser): the laser spot of
+// The laser-spot pieces of the smoother's Cramér–Rao bound (evaluation/crlb/smoother_bound.h
+// assembles them). Laser-only data (laser-plane, euroc-laser): the laser spot of
 // Martinelli & Troiani, "Vision-Aided Inertial Navigation Using Virtual Features", INRIA RR-7906,
 // 2012 (../shared/papers/laser-spot-virtual-feature.txt), on a plane the smoother estimates.
 //

@@ -1,6 +1,6 @@
 // Efficiency of an estimator's laser quantities (d, v_o, roll, pitch, alpha of RR-7906, the
 // gauge-invariant quantities of laser-only data; evaluation/crlb/laser_bound.h) against the
-// Cramér–Rao bound (issue 15), per quantity as efficiency.h does for position and attitude:
+// Cramér–Rao bound, per quantity as efficiency.h does for position and attitude:
 // squared errors e = estimate - truth (angles wrapped into (-pi, pi]) and the bound's variances
 // summed over the keyframes where both exist and over Monte-Carlo runs before the ratio
 // RMSE / bound = sqrt(sum e^2 / sum sigma^2) (>= 1 up to Monte-Carlo noise for an unbiased

@@ -1,10 +1,10 @@
-// Cramér–Rao bounds of the batch smoother's problem (issue 15) on a simulated dataset: the Fisher
+// Cramér–Rao bounds of the batch smoother's problem on a simulated dataset: the Fisher
 // information of all measurements about the keyframe states x_k = (p_W, theta, v_W, b_g, b_a) at
 // the smoother's keyframe times, evaluated at the TRUE states (the ground truth), with the
 // dataset's stated noise models and the priors and gauge the smoother uses.
 //
 // The Jacobians do not come from the smoother's residual code (solver/smoother/residuals):
-// - IMU: the linearised error-state propagation of the strapdown model of README "Conventions"
+// - IMU: the linearised error-state propagation of the strapdown model of DESIGN.md "Conventions"
 //   (w_m = w + b_g + n_g, a_m = R^T (a - g) + b_a + n_a, biases as random walks; e.g. Sola,
 //   "Quaternion kinematics for the error-state Kalman filter", 2017, sec. 5.3 and 7.2, with the
 //   right perturbation R = R_true Exp(dtheta)) over every IMU sample interval between two

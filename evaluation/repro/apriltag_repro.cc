@@ -531,6 +531,7 @@ nlohmann::json DynamicUnit(const AprilTagSettings& settings, uint64_t seed) {
     }
     row.push_back(TagNumber(errors.back().p.norm(), 3));
     if (!e.estimate.failures.empty()) entry["failures"] = e.estimate.failures;
+    if (!e.estimate.rejections.empty()) entry["rejections"] = e.estimate.rejections;
     dynamic_json["estimators"][variant.label] = entry;
     dynamic_rows.push_back(row);
   }

@@ -21,7 +21,7 @@
 // hover_images_seed (the seed of the hover's image noise; default: the first seed).
 // Default runtime: about a minute on 2 cores (500 rendered and detected frames, 100 EKF runs).
 //
-// Runs on the sweep machinery (issue 16): the units are (dynamic, first seed) — the flight
+// Runs on the sweep machinery (evaluation/sweep/): the units are (dynamic, first seed) — the flight
 // rendered, detected and filtered by every variant — and (hover, seed) for every seed — both P0
 // variants of one Monte-Carlo run, on the hover images (rendered once per process: the hover
 // flight does not change with the seed). Each returns JSON; the report is made from those results,

@@ -1,4 +1,4 @@
-// `mavloc repro euroc-imu-april` (issue 12): the papers' tag estimators and the smoother on a real
+// `mavloc repro euroc-imu-april`: the papers' tag estimators and the smoother on a real
 // 72-second calibration log, EuRoC's imu_april (aprilgrid corners of cam0 and cam1 at 20 Hz, raw
 // ADIS16448 IMU at 200 Hz), judged with what is known about it instead of a motion-capture truth:
 // EuRoC's official camera-IMU calibration (Kalibr's, from these sequences), the stereo calibration

@@ -23,9 +23,10 @@
 // (true; false skips the real-data table), data (EuRoC folder), band_alpha_deg, band_angle_deg,
 // band_v_o_m_s, band_d_m; ekf.KEY=VALUE passes an option to laser-ekf (e.g. ekf.gate_sigmas=5).
 //
-// Runs on the sweep machinery (issue 16): the units are (laser-plane, seed), (laser-plane-bias,
-// seed) and (euroc-laser, seed) (the three EuRoC tables share a seed's dataset); each returns its
-// runs' results as JSON, so `--jobs N` (default: the core count) gives the numbers of `--jobs 1`.
+// Runs on the sweep machinery (evaluation/sweep/): the units are (laser-plane, seed),
+// (laser-plane-bias, seed) and (euroc-laser, seed) (the three EuRoC tables share a seed's dataset);
+// each returns its runs' results as JSON, so `--jobs N` (default: the core count) gives the numbers
+// of `--jobs 1`.
 #pragma once
 
 #include <cstdint>

@@ -137,8 +137,11 @@ void Measure(const Dataset& d, const PixhawkVariant& variant, Metrics* m) {
   m->runtime_s += e.runtime_s;
   m->frames += static_cast<long>(d.cameras.front().frames.size());
   m->outputs += static_cast<long>(e.estimate.quantities.size());
-  m->failures += e.estimate.FailureCount();
+  // "Rejected or predicted frames": frames without a pose and frames whose measurement the outlier
+  // test rejected (the filter predicted through them).
+  m->failures += e.estimate.FailureCount() + e.estimate.RejectionCount();
   for (const auto& [reason, count] : e.estimate.failures) m->failure_reasons[reason] += count;
+  for (const auto& [reason, count] : e.estimate.rejections) m->failure_reasons[reason] += count;
 
   // Position error per stamp from the x, y, z series (same stamps: one estimate row each).
   const auto* ex = Find(e.quantity_errors, "x");

@@ -5,7 +5,7 @@
 // Tables (each in report.md, report.json "tables", and <table>.csv):
 //   fig15      pnp (vision-only, 4-point baseline) vs upright-2p (IMU roll/pitch + known-vertical
 //              2-point RANSAC + least squares) on the same corners at the scenario's defaults, the
-//              roll/pitch coming from the gravity EKF of the three-point issue on the simulated
+//              roll/pitch coming from the gravity EKF of the three-point paper on the simulated
 //              IMU.
 //   sweep      the same comparison while one factor changes: the IMU attitude error (ground-truth
 //              roll/pitch + a Gauss-Markov error of 0.05..2 deg, tau 1 s; with all markers and with
@@ -27,10 +27,10 @@
 // Settings (`--set key=value`): tables (comma list, default "fig15,sweep,kf,timestamps");
 // duration_s (cut the flight, for quick runs); any other key goes to the scenario.
 //
-// Runs on the sweep machinery (issue 16): a unit is one configuration of a table (its scenario
-// settings and variants, e.g. "sweep-pixel-noise-2" or "kf-frames-dropped") and one seed, and
-// returns the sums behind each variant's metrics as JSON; the report adds them in seed order, so
-// `--jobs N` (default: the core count) gives the numbers of `--jobs 1` (only ms/frame, a wall
+// Runs on the sweep machinery (evaluation/sweep/): a unit is one configuration of a table (its
+// scenario settings and variants, e.g. "sweep-pixel-noise-2" or "kf-frames-dropped") and one seed,
+// and returns the sums behind each variant's metrics as JSON; the report adds them in seed order,
+// so `--jobs N` (default: the core count) gives the numbers of `--jobs 1` (only ms/frame, a wall
 // time, differs).
 #pragma once
 

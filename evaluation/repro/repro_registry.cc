@@ -22,10 +22,10 @@ const std::vector<ReproEntry>& ReproRegistry() {
        RunLaserRepro, RunLaserReproUnit},
       {"apriltag", "AprilTag paper V: render -> detect -> EKF; hover Monte-Carlo, dynamic, NEES",
        RunAprilTagRepro, RunAprilTagReproUnit},
-      {"smoother", "issue 7: smoother vs its seed and the papers' filter, every visual scenario",
+      {"smoother", "smoother vs its seed and the papers' filter, every visual scenario",
        RunSmootherRepro, RunSmootherReproUnit},
       {"euroc-imu-april",
-       "issue 12: smoother calibration (T_B_C, t_d, gravity) and the papers' tag estimators on "
+       "smoother calibration (T_B_C, t_d, gravity) and the papers' tag estimators on "
        "EuRoC's real imu_april log, against EuRoC's official calibration",
        RunEurocImuAprilRepro, nullptr},
   };

@@ -46,7 +46,7 @@ const std::vector<std::string> kAllScenarios = {
     "tag-arena-dynamic", "tag-arena-hover", "marker-board-flight", "three-point-hover",
     "mav-figure-eight",  "laser-plane",     "euroc-laser"};
 // Run only when named in `scenarios=` (not in the default list): the board map of a calibration
-// log, whose tilt to gravity the smoother estimates (issue 15: the bound marginalises it).
+// log, whose tilt to gravity the smoother estimates (the bound marginalises it).
 const std::vector<std::string> kOptionalScenarios = {"aprilgrid-calibration"};
 const std::vector<std::string> kLaserQuantities = {"d", "v_o", "roll", "pitch", "alpha"};
 
@@ -157,7 +157,7 @@ struct RunMetrics {
   std::map<std::string, int> failure_reasons;
   double runtime_s = 0.0;
   nlohmann::json json;  // EvaluationToJson
-  // Against the Cramér–Rao bound of this run's dataset (issue 15): the smoothing bound and the
+  // Against the Cramér–Rao bound of this run's dataset: the smoothing bound and the
   // filtering (causal) bound, at the keyframes where the estimator has a pose.
   EfficiencySums smoothing_efficiency, filtering_efficiency;
   // Laser-only scenarios: the five observable quantities against the bound (the 15 x 15 pose
@@ -302,7 +302,7 @@ Wins Judge(const RunMetrics& smoother, const RunMetrics& other, const std::strin
 struct RowResult {
   Row row;
   std::vector<RunMetrics> runs;
-  NeesAccumulator nees;  // the estimator's own covariances against its errors (issue 15)
+  NeesAccumulator nees;  // the estimator's own covariances against its errors
 
   std::vector<double> Collect(const std::function<double(const RunMetrics&)>& f) const {
     std::vector<double> v;
@@ -558,7 +558,7 @@ std::vector<std::string> Verdicts(const ScenarioResult& s) {
 // ---------------------------------------------------------------------------------------------
 
 // ---------------------------------------------------------------------------------------------
-// One run as JSON and back (the sweep machinery's unit, issue 16).
+// One run as JSON and back (the sweep machinery's unit, evaluation/sweep/).
 
 nlohmann::json NumberMap(const std::map<std::string, double>& values) {
   nlohmann::json j = nlohmann::json::object();
@@ -635,7 +635,7 @@ nlohmann::json RunUnit(const Plan& plan, uint64_t seed, const std::optional<doub
       dataset.ground_truth.empty()
           ? kNaN
           : NsToSeconds(dataset.ground_truth.back().t_ns - dataset.ground_truth.front().t_ns));
-  // The Cramér–Rao bound of this dataset for the smoother's problem (issue 15).
+  // The Cramér–Rao bound of this dataset for the smoother's problem.
   const SmootherCrlb bound = ComputeSmootherCrlb(dataset, EstimatorOptions(plan.rows[0].options));
   unit["bound"] = {
       {"ok", bound.ok}, {"compute_s", JsonNumber(bound.compute_s)}, {"reason", bound.reason}};
@@ -762,7 +762,7 @@ SmootherSettings ParseSettings(const std::map<std::string, std::string>& raw) {
                       "duration_s.SCENARIO, euroc_data, smoother.KEY)",
                       key));
   }
-  // The smoother's marginal pose covariances for the consistency (ANEES) table of issue 15;
+  // The smoother's marginal pose covariances for the consistency (ANEES) table;
   // `--set smoother.covariance=0` leaves them out (and their time out of the runtime column).
   if (!settings.smoother_options.count("covariance")) settings.smoother_options["covariance"] = "1";
   // One Ceres thread per run (the runs are the parallelism, `--jobs`): the same numbers whatever
@@ -791,7 +791,7 @@ LaserEfficiencySums LaserEfficiencyOf(const RowResult& r, BoundKind kind) {
   return total;
 }
 
-// Laser-only scenarios (issue 15): per estimator and observable quantity the bound that fits it
+// Laser-only scenarios: per estimator and observable quantity the bound that fits it
 // and RMSE / bound with its Monte-Carlo standard error.
 std::string LaserEfficiencyMarkdown(const ScenarioResult& s) {
   std::vector<std::vector<std::string>> rows;
@@ -830,7 +830,7 @@ nlohmann::json LaserEfficiencyJson(const LaserEfficiencySums& e) {
   return j;
 }
 
-// The efficiency table (issue 15): per estimator the bound that fits it (RMS over keyframes and
+// The efficiency table: per estimator the bound that fits it (RMS over keyframes and
 // runs of its standard deviation) and RMSE / bound, squared errors summed over runs first.
 std::string EfficiencyMarkdown(const ScenarioResult& s) {
   if (s.bound_runs == 0)
@@ -868,7 +868,7 @@ std::string EfficiencyMarkdown(const ScenarioResult& s) {
   return md + "\n";
 }
 
-// Consistency of the estimators that return covariances (issue 15).
+// Consistency of the estimators that return covariances.
 std::string ConsistencyMarkdown(const ScenarioResult& s) {
   std::vector<std::vector<std::string>> rows;
   for (const auto& r : s.rows) {
@@ -913,7 +913,7 @@ nlohmann::json AneesJson(const AneesSummary& x) {
 // crlb_<scenario>.csv: per keyframe stamp, the RMS over runs of each estimator's position and
 // attitude errors ("RMSE") and the RMS of its bound ("bound": smoothing for the smoother,
 // filtering for the causal estimators), in one column each so that `mavloc figures` draws error
-// and bound on the same axes (issue 15: error RMS over time against the bound).
+// and bound on the same axes (error RMS over time against the bound).
 std::string EfficiencyCsv(const ScenarioResult& s) {
   std::string csv = "estimator,curve,t [s],position [m],attitude [rad]\n";
   for (const auto& r : s.rows) {
@@ -1213,9 +1213,8 @@ int RunSmootherRepro(const ReproOptions& options) {
 
   nlohmann::json json;
   json["reproduction"] = "smoother";
-  json["issue"] =
-      "7: the smoother is more accurate than its seed and than the papers' filter on the same "
-      "data";
+  json["claim"] =
+      "the smoother is more accurate than its seed and than the papers' filter on the same data";
   json["runs"] = runs;
   json["first_seed"] = options.seed;
   json["settings"] = options.settings;
@@ -1229,7 +1228,7 @@ int RunSmootherRepro(const ReproOptions& options) {
 
   std::string md = fmt::format(
       "# mavloc repro smoother\n\n"
-      "Issue 7 acceptance: on every scenario with visual residuals, over {} seeds ({}..{}), the "
+      "The claim tested: on every scenario with visual residuals, over {} seeds ({}..{}), the "
       "Ceres batch smoother against its seed estimator(s) and the paper's filter, all on the same "
       "simulated dataset per seed. Position and attitude: ATE RMSE with alignment none over each "
       "estimator's own poses (the filters at IMU rate, the others at camera frames; associated "

@@ -1,7 +1,7 @@
-// `mavloc repro smoother`: the acceptance test of issue 7. On every scenario with visual residuals,
-// over N seeds (default 20), the Ceres batch smoother (solver/estimators/smoother_estimator.h)
-// against its seed estimator(s) and the paper's filter, all run on the SAME simulated dataset per
-// seed with RunAndEvaluate (evaluation/comparison.h).
+// `mavloc repro smoother`: is the smoother more accurate than its seed and the papers' filters?
+// On every scenario with visual residuals, over N seeds (default 20), the Ceres batch smoother
+// (solver/estimators/smoother_estimator.h) against its seed estimator(s) and the paper's filter,
+// all run on the SAME simulated dataset per seed with RunAndEvaluate (evaluation/comparison.h).
 //
 // Scenarios and rows (the smoother first):
 //   tag-arena-dynamic, tag-arena-hover: tag-pnp (seed), tag-ekf (AprilTag paper's EKF)
@@ -26,9 +26,9 @@
 // (EuRoC V1_01_easy folder; default: the scenario's own look-up), smoother.KEY=VALUE (a smoother
 // option for every scenario).
 //
-// Runs on the sweep machinery (issue 16): every (scenario, seed) is one unit whose result is JSON
-// (RunSmootherReproUnit: the per-estimator metrics, NEES and Cramér–Rao sums of that run), and the
-// report is made from those results, in this process (--jobs 1) or from sweep workers
+// Runs on the sweep machinery (evaluation/sweep/): every (scenario, seed) is one unit whose result
+// is JSON (RunSmootherReproUnit: the per-estimator metrics, NEES and Cramér–Rao sums of that run),
+// and the report is made from those results, in this process (--jobs 1) or from sweep workers
 // (`repro smoother --jobs N`), with the same numbers either way. Estimators with their own thread
 // pool (the smoother's Ceres solve) run on one thread unless `smoother.threads` says otherwise, so
 // that the numbers do not depend on --jobs.

@@ -17,6 +17,7 @@
 
 #include "core/errors.h"
 #include "core/key_values.h"
+#include "core/number_text.h"
 #include "core/numbers.h"
 #include "core/progress.h"
 #include "core/rotation.h"
@@ -329,15 +330,12 @@ std::vector<double> ParseList(const Settings& settings, const std::string& key,
   std::stringstream stream(text);
   std::string item;
   while (std::getline(stream, item, ',')) {
-    try {
-      size_t used = 0;
-      const double v = std::stod(item, &used);
-      if (used != item.size() || !(v > 0.0)) throw std::invalid_argument("");
-      values.push_back(v);
-    } catch (const std::exception&) {
+    const ParsedNumber<double> v = ParseDoubleText(item);
+    if (!v.ok() || !(v.value > 0.0))
       throw InputError("repro three-point: --set " + key + "=" + text +
-                       ": expected a comma-separated list of positive numbers");
-    }
+                       ": expected a comma-separated list of positive numbers" +
+                       (v.ok() ? "" : " (" + DescribeNumberText(item, v) + ")"));
+    values.push_back(v.value);
   }
   if (values.empty()) throw InputError("repro three-point: --set " + key + " is empty");
   return values;
@@ -582,7 +580,7 @@ int RunThreePointRepro(const ReproOptions& options) {
   md += "\n## sensitivity — bearing noise x hover height (and a biased accelerometer)\n\n";
   md += fmt::format(
       "Sweep geometry: start 1.25 h above the triangle's centroid, goal h (0.5, 0.3, 1) from it "
-      "(h = 0.4 m is table1's geometry); {} runs per row. The noise axis extends the issue's "
+      "(h = 0.4 m is table1's geometry); {} runs per row. The noise axis extends "
       "0.01-1 deg down to 0.001 deg to locate the crossover. The last rows repeat the noise axis "
       "at h = 0.4 m with a constant accelerometer bias drawn N(0, ({} m/s^2)^2) per axis, which "
       "the gravity EKF cannot separate from gravity. Columns: mean errors of 2p and 3p (x, y, z "

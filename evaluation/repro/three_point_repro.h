@@ -6,7 +6,7 @@
 //   (two-point), plus the gravity EKF's roll and pitch, over N Monte-Carlo seeds (default 20),
 //   each beside the paper's value.
 // sensitivity: the same errors for 2p and 3p, and the gravity EKF's roll/pitch error, on a grid
-//   of bearing noise (0.001 to 1 deg; the issue's 0.01-1 deg plus 0.001 deg to locate the
+//   of bearing noise (0.001 to 1 deg; the usual 0.01-1 deg plus 0.001 deg to locate the
 //   crossover) x hover height (0.2 to 1 m), then the noise axis again at 0.4 m with a biased
 //   accelerometer (which the gravity EKF cannot see); per row whether 3p beats 2p on every column
 //   and the first-order prediction of 3p's roll/pitch error from the bearing noise.
@@ -23,9 +23,9 @@
 // Sweep geometry for height h: start 1.25 h above the triangle's centroid, goal h (0.5, 0.3, 1)
 // from it (h = 0.4 m is the scenario's default).
 //
-// Runs on the sweep machinery (issue 16): every (configuration, seed) is a unit whose result, the
-// sums of each variant's per-frame errors, goes through its JSON text; `--jobs N` (default: the
-// core count) runs the units in N workers with the same numbers as `--jobs 1`.
+// Runs on the sweep machinery (evaluation/sweep/): every (configuration, seed) is a unit whose
+// result, the sums of each variant's per-frame errors, goes through its JSON text; `--jobs N`
+// (default: the core count) runs the units in N workers with the same numbers as `--jobs 1`.
 #pragma once
 
 #include <cstdint>

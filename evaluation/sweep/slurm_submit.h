@@ -1,5 +1,5 @@
-// Slurm job arrays for sweeps (issue 16, "Slurm"). `mavloc sweep ... --slurm --out DIR` writes into
-// DIR (a folder on the file system the cluster's nodes share):
+// Slurm job arrays for sweeps (docs/commands/sweep.md, "Slurm"). `mavloc sweep ... --slurm --out
+// DIR` writes into DIR (a folder on the file system the cluster's nodes share):
 //   grid.json      the canonical grid (evaluation/sweep/sweep_grid.h)
 //   sweep.sbatch   a job array, one task per shard: task I runs
 //                  `mavloc sweep --grid-file DIR/grid.json --shard I/N --jobs $SLURM_CPUS_PER_TASK

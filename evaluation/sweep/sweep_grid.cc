@@ -10,6 +10,7 @@
 
 #include "core/errors.h"
 #include "core/key_values.h"
+#include "core/number_text.h"
 #include "datasets/scenarios/scenario.h"
 #include "evaluation/alignment.h"
 #include "evaluation/repro/repro.h"
@@ -20,22 +21,21 @@ namespace mavloc {
 namespace {
 
 uint64_t ParseUnsigned(const std::string& text, const std::string& flag) {
-  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || text.size() > 19)
+  const ParsedNumber<unsigned long long> value = ParseUnsignedText(text);
+  if (!value.ok())
+    throw InputError(flag + " '" + text + "': expected a non-negative integer (" +
+                     DescribeNumberText(text, value, "a non-negative integer") + ")");
+  if (text.find_first_not_of("0123456789") != std::string::npos)  // digits only: no '+'
     throw InputError(flag + " '" + text + "': expected a non-negative integer");
-  return std::stoull(text);
+  return value.value;
 }
 
 double ParseNumber(const std::string& text, const std::string& flag) {
-  size_t used = 0;
-  double value = 0.0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != text.size() || !std::isfinite(value))
-    throw InputError(flag + " '" + text + "': expected a finite number");
-  return value;
+  const ParsedNumber<double> value = ParseDoubleText(text);
+  if (!value.ok())
+    throw InputError(flag + " '" + text + "': expected a finite number (" +
+                     DescribeNumberText(text, value) + ")");
+  return value.value;
 }
 
 }  // namespace

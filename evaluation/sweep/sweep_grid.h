@@ -1,4 +1,4 @@
-// The grid of a Monte-Carlo sweep (`mavloc sweep`, issue 16): scenario(s) x `--set` value
+// The grid of a Monte-Carlo sweep (`mavloc sweep`): scenario(s) x `--set` value
 // combinations x seeds, each combination one independent unit on which every listed estimator runs
 // (on the same simulated dataset, as `mavloc compare` and the reproductions do).
 //

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -26,6 +27,53 @@ std::string ReadAll(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "", "cannot read the partial file");
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Every sweep metric is an RMSE, a mean absolute error or a count: finite, not negative, and far
+// below this bound, which keeps sums of squares over any grid finite.
+constexpr double kMaxMetricValue = 1e100;
+
+// The result of one unit of a plain sweep grid (evaluation/sweep/sweep_unit.cc writes it), checked
+// field by field so that a damaged partial is refused naming the unit and the field.
+void CheckUnitResult(const nlohmann::json& unit, const std::string& path, size_t k) {
+  const std::string at = fmt::format("units[{}]", k);
+  auto refuse = [&](const std::string& field, const std::string& what) {
+    throw InputError(path, 0, at + field, "damaged unit result: " + what);
+  };
+  if (!unit.is_object()) refuse("", "not an object");
+  if (!unit.contains("scenario") || !unit["scenario"].is_string()) refuse(".scenario", "not text");
+  if (!unit.contains("seed") || !unit["seed"].is_number_unsigned()) refuse(".seed", "not a seed");
+  if (!unit.contains("settings") || !unit["settings"].is_object())
+    refuse(".settings", "not an object");
+  for (const auto& [key, value] : unit["settings"].items())
+    if (!value.is_string()) refuse(".settings." + key, "not text");
+  if (!unit.contains("estimators") || !unit["estimators"].is_array())
+    refuse(".estimators", "not a list");
+  for (size_t e = 0; e < unit["estimators"].size(); ++e) {
+    const auto& row = unit["estimators"][e];
+    const std::string field = fmt::format(".estimators[{}]", e);
+    if (!row.is_object() || !row.contains("name") || !row["name"].is_string() ||
+        !row.contains("ran") || !row["ran"].is_boolean())
+      refuse(field, "needs a name and ran");
+    if (!row["ran"].get<bool>()) {
+      if (row.contains("skipped") && !row["skipped"].is_string())
+        refuse(field + ".skipped", "not text");
+      continue;
+    }
+    if (!row.contains("metrics") || !row["metrics"].is_object() || !row.contains("units") ||
+        !row["units"].is_object())
+      refuse(field, "a run without metrics and units");
+    for (const auto& [metric, value] : row["metrics"].items()) {
+      if (!value.is_number() || !std::isfinite(value.get<double>()) || value.get<double>() < 0.0 ||
+          value.get<double>() > kMaxMetricValue)
+        refuse(field + ".metrics." + metric,
+               "must be a finite number from 0 to 1e100 (an RMSE, a mean absolute error or a "
+               "count), not " +
+                   value.dump().substr(0, 40));
+      if (!row["units"].contains(metric) || !row["units"][metric].is_string())
+        refuse(field + ".units." + metric, "no unit for the metric");
+    }
+  }
 }
 
 struct Partial {
@@ -52,6 +100,12 @@ Partial ReadPartial(const std::string& path) {
     throw InputError(path, 0, "complete",
                      "incomplete partial: no \"complete\": true marker; rerun this shard");
   try {
+    for (const char* field : {"shard", "shards"}) {
+      const auto& value = p.json.at(field);
+      if (!value.is_number_integer() || value.get<int64_t>() < 1 ||
+          value.get<int64_t>() > 1000000000)
+        throw InputError(path, 0, field, "not a shard number: " + value.dump().substr(0, 40));
+    }
     p.spec.shard = p.json.at("shard").get<int>();
     p.spec.shards = p.json.at("shards").get<int>();
     const SweepGrid grid = SweepGridFromJson(p.json.at("grid"), path);
@@ -62,20 +116,25 @@ Partial ReadPartial(const std::string& path) {
       throw InputError(path, 0, "fingerprint",
                        "fingerprint " + fingerprint + " does not match its own grid (" + expected +
                            "): the file was edited or damaged");
-    if (p.spec.shards < 1 || p.spec.shard < 1 || p.spec.shard > p.spec.shards)
+    if (p.spec.shards < 1 || p.spec.shard < 1 || p.spec.shard > p.spec.shards ||
+        static_cast<size_t>(p.spec.shards) > std::max<size_t>(1, SweepUnitCount(grid)))
       throw InputError(path, 0, "shard",
                        fmt::format("bad shard {}/{}", p.spec.shard, p.spec.shards));
     const auto expected_units = ShardUnitIndices(SweepUnitCount(grid), p.spec);
     const auto& units = p.json.at("units");
     bool same = units.is_array() && units.size() == expected_units.size();
     for (size_t i = 0; same && i < units.size(); ++i)
-      same = units[i].at("index").get<size_t>() == expected_units[i];
+      same = units[i].is_object() && units[i].contains("index") &&
+             units[i]["index"].is_number_unsigned() &&
+             units[i]["index"].get<size_t>() == expected_units[i];
     if (!same)
       throw InputError(
           path, 0, "units",
           fmt::format("incomplete partial: shard {}/{} must hold {} units, it holds {}",
                       p.spec.shard, p.spec.shards, expected_units.size(),
                       units.is_array() ? units.size() : 0));
+    if (grid.repro.empty())
+      for (size_t i = 0; i < units.size(); ++i) CheckUnitResult(units[i], path, i);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path, 0, "", std::string("malformed partial: ") + e.what());
   }

@@ -1,4 +1,5 @@
-// Shards of a sweep and their partial results (issue 16, "Shards and an exact merge").
+// Shards of a sweep and their partial results (docs/commands/sweep.md, "Shards and the exact
+// merge").
 //
 // Shard I of N (1-based) holds the units with index % N == I - 1 (strided rather than contiguous
 // blocks, so that every shard gets a similar mix of scenarios and settings and the shards take

@@ -9,6 +9,9 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "evaluation/report/provenance.h"
+#include "evaluation/report/report_folder.h"
+#include "evaluation/report/report_markdown.h"
 #include "evaluation/report_writer.h"
 
 namespace mavloc {
@@ -112,6 +115,7 @@ std::map<std::string, std::string> BuildSweepReport(const SweepGrid& grid,
   }
 
   nlohmann::json json;
+  json["report_kind"] = "sweep";
   json["sweep"] = {{"grid", SweepGridToJson(grid)},
                    {"fingerprint", fingerprint},
                    {"units", units.size()},
@@ -175,7 +179,18 @@ std::map<std::string, std::string> BuildSweepReport(const SweepGrid& grid,
   }
   flush();
   json["runs"] = units;
-  return {{"report.md", markdown}, {"report.json", json.dump(2) + "\n"}, {"runs.csv", csv}};
+  // One report model and writer for every command (evaluation/report/): the cells and runs are
+  // the sweep's details, the tables above its section.
+  ReportFiles files;
+  files.kind = "sweep";
+  files.markdown = markdown;
+  files.json = json;
+  Report report = ReportFromFiles(files);
+  report.provenance.seeds = grid.seeds;
+  report.provenance.runs = static_cast<int>(units.size());
+  const std::string json_text = ReportJsonText(report);
+  report.provenance = WithInvocation(report.provenance);
+  return {{"report.md", RenderReportMarkdown(report)}, {"report.json", json_text}, {"runs.csv", csv}};
 }
 
 void WriteSweepReport(const std::string& folder, const std::map<std::string, std::string>& files) {

@@ -5,11 +5,13 @@
 #include <poll.h>
 #include <sched.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -18,6 +20,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <memory>
 #include <stdexcept>
 
 #include "core/atomic_file.h"
@@ -90,6 +93,7 @@ Worker StartWorker(const std::vector<std::string>& argv, const std::string& stde
   std::vector<char*> envp;
   for (auto& e : environment) envp.push_back(e.data());
   envp.push_back(nullptr);
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     ::close(fds[0]);
@@ -97,7 +101,12 @@ Worker StartWorker(const std::vector<std::string>& argv, const std::string& stde
     throw std::runtime_error("sweep: fork failed");
   }
   if (pid == 0) {
-    // Child: signals unblocked (core/interrupt.h blocks them in the parent's threads; the worker's
+    // Child: killed when this process ends, however it ends (an interrupt ends it with _exit,
+    // core/interrupt.h, without waiting for the workers). The signal follows the forking thread,
+    // which waits for its workers before it returns. A parent that ended before the request took
+    // effect is caught by the getppid check (the orphan was adopted by another process).
+    if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || ::getppid() != parent) ::_exit(127);
+    // Signals unblocked (core/interrupt.h blocks them in the parent's threads; the worker's
     // own main() installs its handler again), MAVLOC_QUIET=1, stdout discarded, stderr to a file
     // the parent reads on failure, the channel on fd 3 (dup2 clears its close-on-exec flag).
     sigset_t none;
@@ -131,17 +140,47 @@ bool SendLine(int fd, const std::string& line) {
   return true;
 }
 
-struct TempFolder {
-  std::string path;
+// A fresh folder in the system's temporary folder, removed with its contents when destroyed. It is
+// registered with the interrupt cleanup (core/interrupt.h) before it is created, and created with
+// CreateOutputDirectories, which waits once an interrupt is being handled: an interrupt at any
+// moment leaves no folder.
+class TempFolder {
+ public:
   TempFolder() {
-    std::string pattern = (fs::temp_directory_path() / "mavloc_sweep_XXXXXX").string();
-    if (!::mkdtemp(pattern.data())) throw std::runtime_error("sweep: cannot create a temp folder");
-    path = pattern;
+    for (int attempt = 0; attempt < 100 && path_.empty(); ++attempt) {
+      const std::string candidate = (fs::temp_directory_path() / CandidateName()).string();
+      auto guard = std::make_unique<TemporaryPathGuard>(candidate);
+      std::error_code error;
+      if (!CreateOutputDirectories(candidate, error)) {
+        if (error) throw std::runtime_error("sweep: cannot create a temp folder: " + candidate);
+        continue;  // the name is taken
+      }
+      fs::permissions(candidate, fs::perms::owner_all, error);
+      path_ = candidate;
+      guard_ = std::move(guard);
+    }
+    if (path_.empty()) throw std::runtime_error("sweep: cannot create a temp folder");
   }
   ~TempFolder() {
     std::error_code ignored;
-    fs::remove_all(path, ignored);
+    fs::remove_all(path_, ignored);
   }
+  TempFolder(const TempFolder&) = delete;
+  TempFolder& operator=(const TempFolder&) = delete;
+
+  const std::string& path() const { return path_; }
+
+ private:
+  // "mavloc_sweep_<pid>_<number>": unique among this process's folders, unlikely among others'.
+  static std::string CandidateName() {
+    static std::atomic<unsigned> counter{0};
+    const auto now = std::chrono::steady_clock::now().time_since_epoch().count();
+    return fmt::format("mavloc_sweep_{}_{}_{:x}", static_cast<long>(::getpid()), counter++,
+                       static_cast<unsigned long long>(now) & 0xffffff);
+  }
+
+  std::string path_;
+  std::unique_ptr<TemporaryPathGuard> guard_;
 };
 
 }  // namespace
@@ -168,9 +207,8 @@ std::vector<nlohmann::json> RunSweepUnits(const SweepGrid& grid, const std::vect
   }
   if (options.worker_argv.empty()) throw std::logic_error("sweep: no worker command for --jobs");
 
-  TempFolder temp;
-  const TemporaryPathGuard remove_on_interrupt(temp.path);  // core/interrupt.h
-  const std::string grid_path = temp.path + "/grid.json";
+  const TempFolder temp;
+  const std::string grid_path = temp.path() + "/grid.json";
   WriteFileAtomically(grid_path, CanonicalGridText(grid));
   std::vector<std::string> argv;
   for (std::string item : options.worker_argv) {
@@ -178,7 +216,7 @@ std::vector<nlohmann::json> RunSweepUnits(const SweepGrid& grid, const std::vect
       item.replace(at, 6, grid_path);
     argv.push_back(item);
   }
-  argv.insert(argv.end(), {"--serve", temp.path});
+  argv.insert(argv.end(), {"--serve", temp.path()});
 
   std::vector<Worker> workers;
   auto stop_all = [&] {
@@ -223,7 +261,7 @@ std::vector<nlohmann::json> RunSweepUnits(const SweepGrid& grid, const std::vect
   };
   try {
     for (int k = 0; k < jobs; ++k) {
-      workers.push_back(StartWorker(argv, fmt::format("{}/worker-{}.err", temp.path, k)));
+      workers.push_back(StartWorker(argv, fmt::format("{}/worker-{}.err", temp.path(), k)));
     }
     for (Worker& w : workers) assign(w);
     while (done < indices.size()) {
@@ -258,7 +296,7 @@ std::vector<nlohmann::json> RunSweepUnits(const SweepGrid& grid, const std::vect
           if (w.position < 0 || line != std::to_string(indices[position]))
             fail(w, ", unexpected reply '" + line + "'");
           results[position] = nlohmann::json::parse(
-              ReadWholeFile(fmt::format("{}/unit-{}.json", temp.path, indices[position])));
+              ReadWholeFile(fmt::format("{}/unit-{}.json", temp.path(), indices[position])));
           ++done;
           progress.UnitDone();
           assign(w);

@@ -1,4 +1,4 @@
-// Runs units of a sweep on the local cores (issue 16, "All cores of one machine").
+// Runs units of a sweep on the local cores.
 //
 // jobs == 1 runs the units one after another in this process. jobs > 1 starts `jobs` long-lived
 // worker processes (fork + exec of the mavloc executable): the estimators use Ceres thread pools

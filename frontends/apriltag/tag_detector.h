@@ -15,20 +15,21 @@
 //
 // Pixel convention. mavloc (like OpenCV and Kalibr) puts the centre of pixel (i, j) at (i, j);
 // libapriltag puts the top-left corner of pixel (0, 0) at (0, 0), i.e. pixel centres at
-// (i + 0.5, j + 0.5) (upstream issues #121, #334). Detections are shifted by -0.5 px into
-// mavloc's convention unless `raw_output` is set.
+// (i + 0.5, j + 0.5) (discussed upstream: github.com/AprilRobotics/apriltag/issues/121 and /334).
+// Detections are shifted by -0.5 px into mavloc's convention unless `raw_output` is set.
 //
 // Aprilgrids. The families "aprilgrid" / "tag36h11b2" (Kalibr's tag36h11 with a 2-bit border,
 // aprilgrid_family.h) run the aprilgrid steps of aprilgrid_detector.h: segmentation on an image
 // whose diagonal black junctions are separated, and corners refined as X-junctions on the original
 // image (options `aprilgrid`). Their corners are point features, valid on the raw distorted image.
 //
-// refine_edges. Debian's libapriltag 3.3.0 still has the refine_edges coordinate bug fixed upstream
-// in 2024 (PR #346): on exact images with pixel-aligned, non-anti-aliased edges it moves corners by
-// 0.1-0.25 px. On area-integrated edges, what a camera (and datasets/rendering) produces, it is the
-// better choice: on noiseless renders of the arena (rectified, see detect_tags.h) the corner error
-// is mean 0.06 px / max 0.14 px with it, and mean 0.10 px / max 0.35 px with a -0.05 px bias
-// without. mavloc keeps upstream's default (true) at decimate 1.
+// refine_edges. Debian's libapriltag 3.3.0 still has the refine_edges coordinate bug that upstream
+// has since fixed (AprilRobotics/apriltag pull request 346): on exact images with pixel-aligned,
+// non-anti-aliased edges it moves corners by 0.1-0.25 px. On area-integrated edges, what a camera
+// (and datasets/rendering) produces, it is the better choice: on noiseless renders of the arena
+// (rectified, see detect_tags.h) the corner error is mean 0.06 px / max 0.14 px with it, and mean
+// 0.10 px / max 0.35 px with a -0.05 px bias without. mavloc keeps upstream's default (true) at
+// decimate 1.
 #pragma once
 
 #include <Eigen/Core>

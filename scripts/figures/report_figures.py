@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Figures of a mavloc report folder (issue 13, item 5), drawn with Debian's python3-matplotlib.
+"""Figures of a mavloc report folder, drawn with Debian's python3-matplotlib.
 
 The kind of folder is detected from its files (or given with --kind):
   eval     `mavloc eval --out DIR`: truth.tum, estimate_<label>[_run<k>].tum, errors_over_time.csv,
@@ -161,12 +161,15 @@ def trajectory_figure(out, folder, title, order=()):
     """order: labels in the order (and so the colors) of the folder's other figures."""
     truth_path = os.path.join(folder, "truth.tum")
     truth = read_trajectory(truth_path) if os.path.exists(truth_path) else None
+    # compare --reference: the reference, an estimate the others were compared with.
+    reference_path = os.path.join(folder, "reference.tum")
+    reference = read_trajectory(reference_path) if os.path.exists(reference_path) else None
     estimates = OrderedDict()
     for label, runs in estimate_files(folder).items():
         arrays = [a for a in (read_trajectory(p) for _, p in runs) if a is not None]
         if arrays:
             estimates[label] = arrays
-    if truth is None and not estimates:
+    if truth is None and reference is None and not estimates:
         return
     labels = [x for x in order if x in estimates] + [x for x in estimates if x not in order]
     estimates = OrderedDict((x, estimates[x]) for x in labels)
@@ -174,8 +177,13 @@ def trajectory_figure(out, folder, title, order=()):
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.8))
     for ax, (i, j, view) in zip(axes, [(1, 2, "top view (x-y)"), (1, 3, "side view (x-z)")]):
         if truth is not None:
-            ax.plot(truth[:, i], truth[:, j], color="black", linewidth=1.4, label="truth")
-            ax.plot(truth[0, i], truth[0, j], "o", color="black", markersize=4)
+            # Drawn last (on top), thin and dashed, so that the estimates under it stay visible.
+            ax.plot(truth[:, i], truth[:, j], color="black", linewidth=1.0, linestyle="--",
+                    label="truth", zorder=5)
+            ax.plot(truth[0, i], truth[0, j], "o", color="black", markersize=4, zorder=5)
+        if reference is not None:
+            ax.plot(reference[:, i], reference[:, j], color="dimgray", linewidth=1.0,
+                    linestyle="-.", label="reference (an estimate)", zorder=4)
         for label, arrays in estimates.items():
             many = len(arrays) > 1
             for k, a in enumerate(arrays):
@@ -193,7 +201,7 @@ def trajectory_figure(out, folder, title, order=()):
              "Trajectories, top (x-y) and side (x-z) views: " +
              ("truth in black (dot: start) and " if truth is not None
               else "no truth.tum in this folder; ") + "each estimate as written in this folder" +
-             (" (aligned as the report states)." if os.path.exists(os.path.join(folder, "eval.md"))
+             (" (aligned as the report states)." if os.path.exists(os.path.join(folder, "report.md"))
               else "."))
 
 
@@ -322,6 +330,16 @@ def grouped_boxplots(out, labels, colors, groups, data, ylabels, name, title, ca
 # compare
 
 
+def report_reference(folder):
+    """protocol.reference of the folder's report.json: "truth", "estimate" or None."""
+    try:
+        with open(os.path.join(folder, "report.json"), encoding="utf-8") as f:
+            protocol = json.load(f).get("protocol") or {}
+        return protocol.get("reference")
+    except (OSError, ValueError, AttributeError):
+        return None
+
+
 def compare_figures(out, folder):
     header, rows = read_csv(os.path.join(folder, "errors.csv"))
     col = {h: i for i, h in enumerate(header)}
@@ -352,7 +370,8 @@ def compare_figures(out, folder):
         axes[0, 0].legend(handles=[Line2D([], [], color=colors[e], label=e) for e in estimators],
                           fontsize="small", loc="upper left", ncol=max(1, min(4, len(estimators))))
         axes[-1, 0].set_xlabel("time [s]")
-        fig.suptitle("error over time (estimate - truth) per quantity")
+        against = "reference" if report_reference(folder) == "estimate" else "truth"
+        fig.suptitle(f"Error over time (estimate - {against}) of each quantity")
         out.save(fig, "errors_over_time.png",
                  "Error (estimate - truth; against a reference: estimate - reference) of every "
                  "quantity over time, one line per estimator, as in errors.csv.")
@@ -572,7 +591,8 @@ def repro_csv_figure(out, folder, name):
 
 
 def find_estimator_tables(node, path, found):
-    """Every object with an "estimators" object (report.json of repro, issue 2's contract)."""
+    """Every object with an "estimators" object (report.json of repro: per-estimator objects as in
+    compare's report.json)."""
     if not isinstance(node, dict):
         return
     if isinstance(node.get("estimators"), dict) and node["estimators"]:
@@ -664,7 +684,7 @@ def repro_json_figure(out, path, estimators, index):
 
 
 def crlb_csv_figure(out, folder, name):
-    """crlb_<scenario>.csv (`mavloc repro smoother`, issue 15): per estimator the RMS over runs of
+    """crlb_<scenario>.csv (`mavloc repro smoother`): per estimator the RMS over runs of
     its position and attitude errors (solid) against the RMS of its Cramér–Rao bound (dashed, same
     color), on a logarithmic axis: the errors span orders of magnitude between estimators."""
     header, rows = read_csv(os.path.join(folder, name))
@@ -718,6 +738,9 @@ def repro_figures(out, folder):
     if os.path.exists(path):
         with open(path, encoding="utf-8") as f:
             report = json.load(f)
+        # A reproduction's own tables are the details of the one report schema.
+        if isinstance(report, dict) and isinstance(report.get("details"), dict):
+            report = report["details"]
         tables = []
         find_estimator_tables(report.get("tables", report), "", tables)
         index = 0
@@ -731,14 +754,67 @@ def repro_figures(out, folder):
     trajectory_figure(out, folder, "trajectories")
 
 
+def matrix_figures(out, folder):
+    """Grouped boxplots of the relative error per length (estimators side by side, one color per
+    estimator in every panel), one panel per sequence; the mean APE RMSE per sequence with its
+    bootstrap interval."""
+    header, rows = read_csv(os.path.join(folder, "relative_errors.csv"))
+    col = {h: i for i, h in enumerate(header)}
+    if rows and all(h in col for h in ("estimator", "sequence", "length_m", "translation_error_pct")):
+        data = OrderedDict()  # sequence -> length -> estimator -> [pct]
+        estimators = sorted({r[col["estimator"]] for r in rows})
+        for r in rows:
+            data.setdefault(r[col["sequence"]], OrderedDict()).setdefault(
+                to_float(r[col["length_m"]]), OrderedDict()).setdefault(
+                r[col["estimator"]], []).append(to_float(r[col["translation_error_pct"]]))
+        colors = color_map(estimators)
+        sequences = sorted(data)
+        fig, axes = plt.subplots(len(sequences), 1, figsize=(10, 3.2 * len(sequences) + 0.8),
+                                 squeeze=False)
+        width = 0.8 / max(1, len(estimators))
+        for ax, sequence in zip(axes[:, 0], sequences):
+            lengths = sorted(data[sequence])
+            for k, estimator in enumerate(estimators):
+                values = [[v for v in data[sequence][length].get(estimator, []) if math.isfinite(v)]
+                          for length in lengths]
+                positions = [i + (k - (len(estimators) - 1) / 2) * width for i in range(len(lengths))]
+                keep = [i for i, v in enumerate(values) if v]
+                if not keep:
+                    continue
+                box = ax.boxplot([values[i] for i in keep], positions=[positions[i] for i in keep],
+                                 widths=width * 0.9, patch_artist=True, manage_ticks=False,
+                                 flierprops={"markersize": 2})
+                for patch in box["boxes"]:
+                    patch.set_facecolor(colors[estimator])
+                    patch.set_alpha(0.7)
+                for median in box["medians"]:
+                    median.set_color("black")
+            ax.set_xticks(range(len(lengths)))
+            ax.set_xticklabels([f"{length:g}" for length in lengths])
+            ax.set_ylabel("translation error [%]")
+            ax.set_title(f"{sequence}", fontsize="medium")
+            ax.grid(True, axis="y", alpha=0.3)
+        axes[-1, 0].set_xlabel("sub-trajectory length [m]")
+        fig.legend(handles=[Line2D([], [], color=colors[e], linewidth=6, label=e)
+                            for e in estimators],
+                   loc="upper right", fontsize="small", ncol=max(1, min(4, len(estimators))))
+        fig.suptitle("Relative translation error per sub-trajectory length, estimators side by side")
+        out.save(fig, "relative_error_boxplots.png",
+                 "Relative translation error (rpg's definition, % of the length) per sequence and "
+                 "sub-trajectory length, one box per estimator, pooled over runs.")
+
+
 def detect_kind(folder):
-    exists = lambda name: os.path.exists(os.path.join(folder, name))  # noqa: E731
-    if exists("eval.md") or exists("eval.json") or exists("errors_over_time.csv"):
-        return "eval"
-    if exists("errors.csv"):
-        return "compare"
-    if exists("report.json"):
-        return "repro"
+    """The report_kind its report.json (or eval.json) declares; "unknown" otherwise."""
+    for name in ("report.json", "eval.json"):
+        path = os.path.join(folder, name)
+        try:
+            with open(path, encoding="utf-8") as f:
+                kind = json.load(f).get("report_kind")
+        except (OSError, ValueError, AttributeError):
+            continue
+        if isinstance(kind, str):
+            return kind
     return "unknown"
 
 
@@ -746,13 +822,16 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("report_dir")
-    parser.add_argument("--kind", choices=["eval", "compare", "repro"], default=None)
+    parser.add_argument("--kind",
+                        choices=["eval", "compare", "repro", "sweep", "obstacles", "matrix"],
+                        default=None)
     args = parser.parse_args()
     if not os.path.isdir(args.report_dir):
         sys.exit(f"report_figures: {args.report_dir}: not a folder")
     kind = args.kind or detect_kind(args.report_dir)
     out = Figures(args.report_dir)
-    {"eval": eval_figures, "compare": compare_figures, "repro": repro_figures}.get(
+    {"eval": eval_figures, "compare": compare_figures, "repro": repro_figures,
+     "matrix": matrix_figures}.get(
         kind, lambda *_: None)(out, args.report_dir)
     if not out.written:
         print(f"report_figures: {args.report_dir} ({kind}): nothing to plot", file=sys.stderr)

@@ -13,7 +13,7 @@ ImuDeadReckoning::ImuDeadReckoning(const EstimatorOptions& options)
 namespace {
 
 // A ground truth read from a pose-only file (TUM, an 8-column EuRoC CSV) has v_W = 0 in every row
-// although the body moves: starting from zero velocity would be silently wrong (issue 17, class 4).
+// although the body moves: starting from zero velocity would be silently wrong, so it is refused.
 bool GroundTruthLacksVelocity(const std::vector<GroundTruthState>& truth) {
   bool moves = false;
   for (const auto& s : truth) {

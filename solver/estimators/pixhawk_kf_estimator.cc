@@ -81,17 +81,17 @@ Estimate PixhawkKfEstimator::RunInWorld(const Dataset& dataset, const BoardWorld
       if (r.ok) {
         measurement = r.pose.T_W_B;
       } else {
-        estimate.CountFailure("rejected: " + r.reason + " (predicted)");
+        estimate.CountRejection("rejected: " + r.reason + " (predicted)");
       }
     } else {
       const CornerPnpResult r = CornerPnp(frame.observations, dataset.map.tags, camera);
       if (!r.ok) {
-        estimate.CountFailure("rejected: " + r.reason + " (predicted)");
+        estimate.CountRejection("rejected: " + r.reason + " (predicted)");
       } else if (attitude_check_rad_ > 0.0 &&
                  !CheckAttitude(r.T_W_B.q, roll_pitch->roll_rad, roll_pitch->pitch_rad,
                                 attitude_check_rad_)
                       .accepted) {
-        estimate.CountFailure("rejected: roll/pitch disagree with the IMU (predicted)");
+        estimate.CountRejection("rejected: roll/pitch disagree with the IMU (predicted)");
       } else {
         measurement = r.T_W_B;
       }

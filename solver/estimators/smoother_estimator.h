@@ -35,7 +35,7 @@
 //                   (laser, unknown landmarks), also solve with the generic prior first and keep
 //                   the lower-cost of the two solutions (1)
 //
-// Calibration (issue 12). Tag corners of tags0 (cam0) and tags1 (cam1) each enter with their own
+// Calibration. Tag corners of tags0 (cam0) and tags1 (cam1) each enter with their own
 // camera model and T_B_C.
 //   cameras              all | cam0 | cam1 | cam0,cam1: whose tags are used (all: every camera
 //                        with map tags). Seed: tag-pnp when cam0 is used, else a built-in per-frame

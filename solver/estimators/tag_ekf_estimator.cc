@@ -179,12 +179,12 @@ Estimate TagEkfEstimator::RunInWorld(const Dataset& dataset,
         const TagObservation& obs = dataset.tags[i];
         const auto tag = dataset.map.tags.find(obs.tag_id);
         if (tag == dataset.map.tags.end()) {
-          estimate.CountFailure("tag not in map");
+          estimate.CountRejection("tag not in map");
           continue;
         }
         const CornerPnpResult pnp = CornerPnp({obs}, dataset.map.tags, camera);
         if (!pnp.ok) {
-          estimate.CountFailure("per-tag PnP: " + pnp.reason);
+          estimate.CountRejection("per-tag PnP: " + pnp.reason);
           continue;
         }
         frame.tags.push_back({obs.tag_id, pnp.T_W_C.Inverse() * tag->second.T_W_T});
@@ -227,16 +227,16 @@ Estimate TagEkfEstimator::RunInWorld(const Dataset& dataset,
     while (next_frame < frames.size() && frames[next_frame].t_available_ns <= now) {
       const PendingFrame& frame = frames[next_frame++];
       const TagUpdateResult result = ekf.Update(frame.t_exposure_ns, frame.tags);
-      if (result.too_old) estimate.CountFailure("measurement older than the buffer");
-      if (result.in_future) estimate.CountFailure("measurement exposed after the filter time");
+      if (result.too_old) estimate.CountRejection("measurement older than the buffer");
+      if (result.in_future) estimate.CountRejection("measurement exposed after the filter time");
       if (result.rejected_gate > 0)
-        estimate.failures["tag rejected by the innovation gate"] += result.rejected_gate;
-      if (result.unknown_tag > 0) estimate.failures["tag not in map"] += result.unknown_tag;
+        estimate.CountRejection("tag rejected by the innovation gate", result.rejected_gate);
+      if (result.unknown_tag > 0) estimate.CountRejection("tag not in map", result.unknown_tag);
     }
   };
   // Frames exposed before the filter's first IMU sample cannot be used.
   while (next_frame < frames.size() && frames[next_frame].t_exposure_ns < imu[k_start].t_ns) {
-    estimate.CountFailure("measurement before the first IMU sample");
+    estimate.CountRejection("measurement before the first IMU sample");
     ++next_frame;
   }
   apply_available(imu[k_start].t_ns);

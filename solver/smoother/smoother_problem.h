@@ -6,7 +6,7 @@
 //   bearings of unknown ground features (Troiani et al., ECMR 2013: the features are parameters);
 //   the laser spot on an unknown plane (Martinelli & Troiani, RR-7906: the plane is a parameter),
 // - optional robust loss (Huber or Cauchy) on the visual residuals,
-// - calibration blocks (issue 12), constant unless asked for: per camera the extrinsic T_B_C
+// - calibration blocks, constant unless asked for: per camera the extrinsic T_B_C
 //   (quaternion manifold + translation, weak prior around the dataset's value), one camera-IMU
 //   time offset t_d shared by the cameras (bounded to +-max_time_offset_s), and on a board map
 //   (MapFrame::kBoard) the board's tilt to gravity q_W_M (solver/smoother/tilt_manifold.h: 2 DoF,

@@ -1,4 +1,4 @@
-// Rendered aprilgrid datasets go images -> detection -> estimators (issue 12, item 2): simulate the
+// Rendered aprilgrid datasets go images -> detection -> estimators: simulate the
 // aprilgrid-calibration scenario with --render, measure the corners with `detect-tags --family
 // aprilgrid`, and run tag-pnp on the detections against the ground truth.
 #include <gtest/gtest.h>
@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "tests/report_support.h"
 #include "tests/test_support.h"
 
 namespace mavloc {
@@ -50,12 +51,13 @@ TEST(AprilgridRenderPipeline, ImagesDetectionAndPnp) {
                  dir + "/report");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream in(dir + "/report/report.json");
-  const auto json = nlohmann::json::parse(in)["estimators"]["tag-pnp"];
+  const auto json = testing::ReportEstimator(nlohmann::json::parse(in), "tag-pnp");
   // Detected corners agree with the rendered geometry to a few hundredths of a pixel (measured
   // 0.034 px), and the pose with the truth to about a centimetre (the 2 s gravity
   // initialisation's tilt error at 1 m, measured 1.1 cm).
-  EXPECT_LT(json["reprojection"]["cam0"]["rms_px"].get<double>(), 0.1) << json.dump();
-  EXPECT_LT(json["ate"]["rmse"].get<double>(), 0.03) << json.dump();
+  EXPECT_LT(json["metrics"]["reprojection_cam0"]["value"].get<double>(), 0.1) << json.dump();
+  EXPECT_LT(testing::MetricStatistics(json, "ate_translation")["rmse"].get<double>(), 0.03)
+      << json.dump();
 }
 
 }  // namespace

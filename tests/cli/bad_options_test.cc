@@ -1,4 +1,4 @@
-// Bad command-line values (issue 17, "Options"), table-driven: every case must end with exit code
+// Bad command-line values, table-driven: every case must end with exit code
 // 2, one line on stderr naming the option (and the offending key or value), and nothing written
 // in the working folder (no output, no staging folder "*.tmp-<pid>" left behind).
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // The mavloc executable end to end: simulate -> run -> eval -> compare, and every bad-input case
-// of issue #2: one clear line on stderr, exit code 2, no partial output file left behind.
+// of a dataset folder: one clear line on stderr, exit code 2, no partial output file left behind.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "tests/report_support.h"
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;
@@ -84,7 +85,7 @@ TEST_F(CliPipeline, RunThenEval) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("ATE translation"), std::string::npos);
   std::ifstream in(*dir_ + "/eval.json");
-  const auto j = nlohmann::json::parse(in);
+  const auto j = nlohmann::json::parse(in)["details"];  // eval's own layout
   EXPECT_GT(j["pairs"].get<int>(), 100);
   EXPECT_GE(j["ate"]["rmse"].get<double>(), 0.0);
   // Quantities as CSV.
@@ -105,19 +106,20 @@ TEST_F(CliPipeline, CompareWritesTheReportContract) {
   EXPECT_NE(r.output.find("| imu-dead-reckoning |"), std::string::npos) << r.output;
   std::ifstream in(report + "/report.json");
   const auto j = nlohmann::json::parse(in);
-  const auto& e = j["estimators"]["imu-dead-reckoning"];
+  const auto e = testing::ReportEstimator(j, "imu-dead-reckoning");
   for (const char* q : {"x", "y", "z", "roll", "pitch", "yaw"}) {
-    ASSERT_TRUE(e["quantities"].contains(q)) << q;
-    EXPECT_TRUE(e["quantities"][q].contains("mean_abs"));
-    EXPECT_TRUE(e["quantities"][q].contains("rmse"));
+    const auto stats = testing::MetricStatistics(e, q);
+    ASSERT_TRUE(stats.is_object()) << q;
+    EXPECT_TRUE(stats.contains("mean"));
+    EXPECT_TRUE(stats.contains("rmse"));
   }
-  EXPECT_EQ(e["quantities"]["x"]["unit"], "m");
-  EXPECT_EQ(e["quantities"]["yaw"]["unit"], "deg");
-  EXPECT_TRUE(e["ate"].contains("rmse"));
-  EXPECT_TRUE(e["ate"].contains("align"));
+  EXPECT_EQ(e["metrics"]["x"]["unit"], "m");
+  EXPECT_EQ(e["metrics"]["yaw"]["unit"], "rad");  // SI in JSON; degrees only in the tables
+  EXPECT_TRUE(testing::MetricStatistics(e, "ate_translation").contains("rmse"));
+  EXPECT_EQ(j["protocol"]["alignment"], "none");
   EXPECT_TRUE(e.contains("runtime_s"));
-  EXPECT_TRUE(j.contains("dataset"));
-  EXPECT_TRUE(j.contains("scenario"));
+  EXPECT_EQ(j["report_kind"], "compare");
+  EXPECT_TRUE(j["provenance"]["input"].get<std::string>().find("data") != std::string::npos);
   EXPECT_TRUE(fs::exists(report + "/report.md"));
   EXPECT_TRUE(fs::exists(report + "/errors.csv"));
 }
@@ -184,7 +186,7 @@ TEST_F(CliBadFiles, MalformedRow) {
 TEST_F(CliBadFiles, NonMonotonicAndDuplicateTimestamps) {
   Write("est.txt", "2.0 0 0 0 0 0 0 1\n1.0 1 0 0 0 0 0 1\n");
   ExpectCleanFailure(Eval("est.txt"), "est.txt:2: field 'timestamp'");
-  // Issue 13: a repeated stamp keeps the first row and is reported, as evo and TUM's tools do.
+  // A repeated stamp keeps the first row and is reported, as evo and TUM's tools do.
   Write("dup.txt",
         "1.0 0 0 0 0 0 0 1\n1.0 1 0 0 0 0 0 1\n2.0 1 0 0 0 0 0 1\n3.0 2 0 0 0 0 0 1\n4.0 3 1 0 0 0 "
         "0 1\n");

@@ -1,4 +1,4 @@
-// `mavloc compare` on a dataset without ground truth (issue 12, item 6): it asks for a reference,
+// `mavloc compare` on a dataset without ground truth: it asks for a reference,
 // compares against an estimator or a trajectory file, says that the reference is an estimate, and
 // reports the reprojection RMS of the tag corners.
 #include <gtest/gtest.h>
@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "tests/report_support.h"
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;
@@ -60,16 +61,17 @@ TEST(CompareReference, AgainstAnEstimator) {
   const std::string md = ReadAll(dir + "/report/report.md");
   EXPECT_NE(md.find("not a ground truth"), std::string::npos) << md;
   const auto json = nlohmann::json::parse(ReadAll(dir + "/report/report.json"));
-  EXPECT_EQ(json["reference"]["name"], "tag-pnp");
-  EXPECT_FALSE(json["reference"]["is_truth"].get<bool>());
-  EXPECT_TRUE(json["estimators"]["tag-pnp"]["reference"].get<bool>());
-  const auto& ekf = json["estimators"]["tag-ekf"];
-  ASSERT_TRUE(ekf.contains("ate")) << ekf.dump();
-  EXPECT_GT(ekf["ate"]["rmse"].get<double>(), 0.0);
-  EXPECT_LT(ekf["ate"]["rmse"].get<double>(), 0.2);
-  ASSERT_TRUE(ekf.contains("reprojection")) << ekf.dump();
-  EXPECT_GT(ekf["reprojection"]["cam0"]["corners"].get<int>(), 100);
-  EXPECT_LT(ekf["reprojection"]["cam0"]["rms_px"].get<double>(), 5.0);
+  EXPECT_EQ(json["protocol"]["reference"], "estimate");
+  EXPECT_EQ(json["details"]["reference"]["name"], "tag-pnp");
+  EXPECT_FALSE(json["details"]["reference"]["is_truth"].get<bool>());
+  EXPECT_TRUE(testing::ReportEstimator(json, "tag-pnp")["is_reference"].get<bool>());
+  const auto ekf = testing::ReportEstimator(json, "tag-ekf");
+  const auto ate = testing::MetricStatistics(ekf, "ate_translation");
+  ASSERT_TRUE(ate.is_object()) << ekf.dump();
+  EXPECT_GT(ate["rmse"].get<double>(), 0.0);
+  EXPECT_LT(ate["rmse"].get<double>(), 0.2);
+  ASSERT_TRUE(ekf["metrics"].contains("reprojection_cam0")) << ekf.dump();
+  EXPECT_LT(ekf["metrics"]["reprojection_cam0"]["value"].get<double>(), 5.0);
 }
 
 TEST(CompareReference, AgainstATrajectoryFileAndBadReferences) {
@@ -79,10 +81,15 @@ TEST(CompareReference, AgainstATrajectoryFileAndBadReferences) {
                           "/truth.csv --align se3 --report " + dir + "/report"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto json = nlohmann::json::parse(ReadAll(dir + "/report/report.json"));
-  EXPECT_EQ(json["reference"]["kind"], "trajectory_file");
-  EXPECT_EQ(json["estimators"]["tag-pnp"]["ate"]["align"], "se3");
+  EXPECT_EQ(json["details"]["reference"]["kind"], "trajectory_file");
+  EXPECT_EQ(json["protocol"]["alignment"], "se3");
   // The reference file is the simulation's truth: tag-pnp's differences are its errors (mm-cm).
-  EXPECT_LT(json["estimators"]["tag-pnp"]["ate"]["rmse"].get<double>(), 0.05);
+  const auto ate =
+      testing::MetricStatistics(testing::ReportEstimator(json, "tag-pnp"), "ate_translation");
+  ASSERT_TRUE(ate.is_object()) << json.dump();
+  EXPECT_LT(ate["rmse"].get<double>(), 0.05);
+  // The reference is in the folder for the trajectory figure.
+  EXPECT_TRUE(fs::exists(dir + "/report/reference.tum"));
 
   r = RunCommand(
       Cli("compare --dataset " + data + " --reference no-such-thing --report " + dir + "/r2"));

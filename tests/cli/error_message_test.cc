@@ -1,4 +1,4 @@
-// Error lines stay readable whatever the input holds (issue 17, "Messages"): a trajectory file
+// Error lines stay readable whatever the input holds: a trajectory file
 // with a 2 MB field or with binary garbage gives exit code 2 and one short line on stderr naming
 // the file, with control bytes escaped, never echoed raw.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// `mavloc convert` (issue 13, item 2): TUM -> KITTI (+ times file) -> TUM gives back every stamp
+// `mavloc convert`: TUM -> KITTI (+ times file) -> TUM gives back every stamp
 // exactly and every pose to 1e-9; KITTI without times gets index stamps; the real EuRoC ground
 // truth CSV converts to TUM; bad input exits 2 and writes nothing.
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
-// `mavloc eval` on several estimates (issue 13, items 1, 2, 4, 7): two estimate files in different
+// `mavloc eval` on several estimates: two estimate files in different
 // formats plus one folder of runs, the report folder and its file contract (the data files the
-// figure writer reads), the protocol in eval.json / eval.md, KITTI files associated by index, and
+// figure writer reads), the protocol in report.json / report.md, KITTI files associated by index, and
 // the exit code 2 with nothing written for bad option values and bad files.
 #include <gtest/gtest.h>
 
@@ -138,7 +138,7 @@ TEST_F(EvalReport, TwoEstimatesAndARunsFolderWriteTheReportContract) {
   EXPECT_NE(r.output.find("| A | 1 |"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("| R | 3 |"), std::string::npos) << r.output;
 
-  for (const char* f : {"eval.md", "eval.tex", "eval.json", "truth.tum", "estimate_A.tum",
+  for (const char* f : {"report.md", "eval.tex", "report.json", "truth.tum", "estimate_A.tum",
                         "estimate_B.tum", "estimate_R_run1.tum", "estimate_R_run2.tum",
                         "estimate_R_run3.tum", "errors_over_time.csv", "relative_errors.csv"})
     EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
@@ -148,8 +148,8 @@ TEST_F(EvalReport, TwoEstimatesAndARunsFolderWriteTheReportContract) {
   EXPECT_EQ(FirstLine(out + "/relative_errors.csv"),
             "label,run,length_m,translation_error_pct,rotation_error_deg_per_m");
 
-  std::ifstream in(out + "/eval.json");
-  const auto j = nlohmann::json::parse(in);
+  std::ifstream in(out + "/report.json");
+  const auto j = nlohmann::json::parse(in)["details"];  // eval's own layout
   ASSERT_EQ(j["estimates"].size(), 3u);
   EXPECT_EQ(j["estimates"][0]["label"], "A");
   EXPECT_EQ(j["estimates"][2]["kind"], "runs");
@@ -211,8 +211,8 @@ TEST_F(EvalReport, TwoEstimatesAndARunsFolderWriteTheReportContract) {
   EXPECT_NE(Read(out + "/relative_errors.csv").find("\nR,3,"), std::string::npos);
   EXPECT_NE(Read(out + "/errors_over_time.csv").find("\nA,0,0.000000000,"), std::string::npos);
 
-  // Markdown and LaTeX tables, protocol in eval.md.
-  const std::string md = Read(out + "/eval.md");
+  // Markdown and LaTeX tables, protocol in report.md.
+  const std::string md = Read(out + "/report.md");
   EXPECT_NE(md.find("| R | 3 |"), std::string::npos);
   EXPECT_NE(md.find(" ± "), std::string::npos);
   EXPECT_NE(md.find("## Protocol"), std::string::npos);
@@ -232,7 +232,7 @@ TEST_F(EvalReport, EvoOptionsReachTheProtocol) {
           "--delta-unit f --all-pairs --rel-lengths 2 4 --json " + dir_ + "/e.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream in(dir_ + "/e.json");
-  const auto j = nlohmann::json::parse(in);
+  const auto j = nlohmann::json::parse(in)["details"];  // eval's own layout
   EXPECT_EQ(j["protocol"]["association"]["method"], "nearest");
   EXPECT_DOUBLE_EQ(j["protocol"]["association"]["max_diff_s"].get<double>(), 0.005);
   EXPECT_DOUBLE_EQ(j["protocol"]["association"]["time_offset_s"].get<double>(), 0.001);
@@ -263,7 +263,7 @@ TEST_F(EvalReport, KittiFilesWithoutTimesAreAssociatedByIndex) {
       Cli("eval --gt " + dir_ + "/gt.kitti --est " + dir_ + "/a.kitti --json " + dir_ + "/k.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream in(dir_ + "/k.json");
-  const auto j = nlohmann::json::parse(in);
+  const auto j = nlohmann::json::parse(in)["details"];  // eval's own layout
   EXPECT_EQ(j["protocol"]["association"]["method"], "index");
   EXPECT_EQ(j["estimates"][0]["runs"][0]["pairs"], 2000);
   EXPECT_EQ(j["truth"]["has_stamps"], false);
@@ -312,8 +312,8 @@ TEST_F(EvalReport, BadOptionValuesAndFilesExitTwoWithNothingWritten) {
   const auto sorted = RunCommand(Cli("eval --gt " + dir_ + "/gt.txt --est " + dir_ +
                                      "/unsorted.txt --sort --align none --out " + out));
   ASSERT_EQ(sorted.exit_code, 0) << sorted.output;
-  std::ifstream in(out + "/eval.json");
-  const auto j = nlohmann::json::parse(in);
+  std::ifstream in(out + "/report.json");
+  const auto j = nlohmann::json::parse(in)["details"];  // eval's own layout
   EXPECT_TRUE(j["estimates"][0]["runs"][0]["input"]["sorted"].get<bool>());
   EXPECT_EQ(j["estimates"][0]["runs"][0]["input"]["rows_out_of_order"], 1);
 }

@@ -1,10 +1,10 @@
-// Held-out bad input (issue 17), table-driven through the real CLI: scenario.yaml numbers the
-// estimators read (ReadScenarioInfo), estimator option value ranges (solver/estimator_registry.cc),
-// scenario count limits (datasets/scenarios/scenario.h), sweep/sweep-merge/--slurm output folders
-// (staged and kind-checked like the other commands), Slurm option formats, and a compare
-// --reference without overlap. Every case must exit with 2, print one stderr line naming the
-// option, file or field, and leave its working folder exactly as the set-up left it (nothing
-// written, no staging folder, a foreign folder untouched).
+// Bad input from the independent ("held-out") catalogue, table-driven through the real CLI:
+// scenario.yaml numbers the estimators read (ReadScenarioInfo), estimator option value ranges
+// (solver/estimator_registry.cc), scenario count limits (datasets/scenarios/scenario.h),
+// sweep/sweep-merge/--slurm output folders (staged and kind-checked like the other commands), Slurm
+// option formats, and a compare --reference without overlap. Every case must exit with 2, print one
+// stderr line naming the option, file or field, and leave its working folder exactly as the set-up
+// left it (nothing written, no staging folder, a foreign folder untouched).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -214,7 +214,7 @@ TEST_F(HeldoutOptionsOutputs, SweepReportReplacesAnOlderReportWhole) {
   const auto r = testing::RunCommand(
       "cd " + work + " && " + testing::CliPath() +
       " sweep --scenario tag-arena-hover --duration 3 --estimators tag-pnp --seeds 1 --jobs 1 "
-      "--out o");
+      "--out o --force");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(work + "/o/report.json"));
   EXPECT_FALSE(fs::exists(work + "/o/eval.json"));

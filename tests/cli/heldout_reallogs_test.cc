@@ -1,10 +1,11 @@
-// Held-out bad input on real logs (heldout.md RC1, RC2, RC3, RC5), table-driven: each case makes a
-// mutated copy of real data from ../shared/data in a temp folder (EuRoC's imu_april log with yac's
-// config.yaml, the same calibration as Kalibr's camchain.yaml/imu.yaml, EuRoC's cam0 sensor.yaml,
-// TagSLAM's test_2, the ROS bag test2.bag) and runs the real CLI on it. A refused case must exit
-// with code 2, print one line on stderr naming the file (and the line where it has lines) and the
-// field, and leave no output. A second table holds real-world variants that must keep loading (a
-// UTF-8 BOM before a corner file's header; `log info` escapes control bytes in topic names).
+// Bad input on real logs from the independent ("held-out") catalogue, table-driven: each case makes
+// a mutated copy of real data from ../shared/data in a temp folder (EuRoC's imu_april log with
+// yac's config.yaml, the same calibration as Kalibr's camchain.yaml/imu.yaml, EuRoC's cam0
+// sensor.yaml, TagSLAM's test_2, the ROS bag test2.bag) and runs the real CLI on it. A refused case
+// must exit with code 2, print one line on stderr naming the file (and the line where it has lines)
+// and the field, and leave no output. A second table holds real-world variants that must keep
+// loading (a UTF-8 BOM before a corner file's header; `log info` escapes control bytes in topic
+// names).
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -161,7 +162,7 @@ std::vector<Case> RefusedCases() {
     return [from, to](const fs::path& dir) { Substitute(dir / "a/config.yaml", from, to); };
   };
   return {
-      // RC1: calibration readers.
+      // Calibration readers.
       {"yac_focal_length",
        config("proj_params: [458.654", "proj_params: [1e308"),
        kImport,
@@ -217,7 +218,7 @@ std::vector<Case> RefusedCases() {
        },
        kTagslam,
        {"t/tagslam.yaml:16: field 'default_tag_size'", "1e+308"}},
-      // RC2: the target's tag size, blamed on the YAML line that holds it.
+      // The target's tag size, blamed on the YAML line that holds it.
       {"yac_target_tag_size",
        config("tag_size: 0.088 ", "tag_size: 1e308 "),
        kImport,
@@ -228,7 +229,7 @@ std::vector<Case> RefusedCases() {
        },
        kImport + " --target a/target.yaml",
        {"a/target.yaml:4: field 'tag_size'", "1e+308"}},
-      // RC3: a corner file named for a time beyond 2^62 ns.
+      // A corner file named for a time beyond 2^62 ns.
       {"corner_file_beyond_2e62",
        [](const fs::path& dir) {
          const fs::path from = dir / "a/cam0" / kFirstCorners;
@@ -241,7 +242,7 @@ std::vector<Case> RefusedCases() {
        },
        kImport,
        {"a/cam0/9000000000000000000.csv: field 'ts'", "beyond"}},
-      // RC5: ROS bags.
+      // ROS bags.
       {"bag_gyro_1e300",
        [](const fs::path& dir) {
          WriteBagCopy(dir / "f.bag", [](uint64_t index, std::string*, ros1::ImuMsg* imu) {

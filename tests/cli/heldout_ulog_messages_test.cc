@@ -1,12 +1,12 @@
-// Held-out bad-input cases (notes/heldout.md RC4, RC12, RC13) through the real CLI, table-driven
+// Bad-input cases from the independent ("held-out") catalogue through the real CLI, table-driven
 // like tests/integration/bad_input_catalogue_test.cc: mutated copies of the real logs and
 // trajectories of ../shared/data, made in a temp folder.
-// - PX4 ULog (RC4): a value no MAV logs (NaN or 3e38 rad/s gyro, 1e30 m position, a q that is
+// - PX4 ULog: a value no MAV logs (NaN or 3e38 rad/s gyro, 1e30 m position, a q that is
 //   not a rotation) is refused with exit code 2, one stderr line naming the file, the field and
 //   the message, and no output; what the reader drops (repeated or earlier stamps, stamps beyond
 //   the range, NaN q, cut or wrong-size messages) is imported with a note saying so.
-// - Report folders (RC12) never name their staging folder `DIR.tmp-PID`.
-// - Messages (RC13): overflowing stamps are "beyond" the range, a one-row ground truth is blamed
+// - Report folders never name their staging folder `DIR.tmp-PID`.
+// - Messages: overflowing stamps are "beyond" the range, a one-row ground truth is blamed
 //   on the ground truth, an error is one stderr line (notes deferred), `--estimators ,` names the
 //   option.
 #include <gtest/gtest.h>
@@ -93,7 +93,8 @@ T Get(const std::string& bytes, size_t offset) {
   return value;
 }
 
-// Mutations of a copy of a ULog file, as /tmp/heldout/tools/ulogtool.py makes them.
+// Mutations of a copy of a ULog file: one field of one message set to a value, a message cut or
+// resized, stamps changed.
 using Mutation = std::function<void(const std::string& source, std::string* bytes)>;
 
 Mutation SetFloat(const std::string& topic, size_t index, const std::string& field, float value) {
@@ -395,7 +396,7 @@ TEST(HeldoutReports, FigureHintNamesTheFinalFolderNotTheStagingFolder) {
   WriteTruth(dir / "est.txt", 200);
   const testing::CliRun o = testing::RunCliIn(dir, "eval --gt gt.txt --est est.txt --out o");
   ASSERT_EQ(o.exit_code, 0) << o.out << o.err;
-  for (const char* file : {"o/eval.md", "o/report.html"}) {
+  for (const char* file : {"o/report.md", "o/report.html"}) {
     const std::string text = testing::ReadFileBytes(dir / file);
     EXPECT_EQ(text.find(".tmp-"), std::string::npos) << file;
     EXPECT_NE(text.find("mavloc figures o"), std::string::npos) << file;

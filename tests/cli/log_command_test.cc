@@ -107,7 +107,7 @@ TEST(CliLog, CompareAgainstALogTopic) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream in(dir + "/report/report.json");
   const auto j = nlohmann::json::parse(in);
-  EXPECT_EQ(j["reference"]["kind"], "log_topic");
+  EXPECT_EQ(j["details"]["reference"]["kind"], "log_topic");
   const std::string text = j.dump();
   EXPECT_NE(text.find("roll"), std::string::npos);
   EXPECT_NE(text.find("pitch"), std::string::npos);

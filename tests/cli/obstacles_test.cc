@@ -1,5 +1,5 @@
 // End to end: `mavloc simulate --scenario stereo-obstacles --render` then `mavloc obstacles`
-// (issue 8): every obstacle that comes within the clearance raises an alert, and the report
+// (PIXHAWK 7.3): every obstacle that comes within the clearance raises an alert, and the report
 // carries the alert count, precision, recall and the Table-1 timing.
 #include <gtest/gtest.h>
 
@@ -37,7 +37,16 @@ TEST(ObstaclesCommandTest, EveryCloseObstacleRaisesAnAlert) {
   const auto result = testing::RunCommand(testing::CliPath() + " obstacles --dataset " + folder +
                                           "/data --pose-source gt --report " + report);
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  const nlohmann::json json = nlohmann::json::parse(ReadText(report + "/report.json"));
+  const nlohmann::json report_json = nlohmann::json::parse(ReadText(report + "/report.json"));
+  EXPECT_EQ(report_json["report_kind"], "obstacles");
+  // The report follows the one schema (Debian's python3-jsonschema, where installed).
+  if (testing::RunCommand("/usr/bin/python3 -c 'import jsonschema'").exit_code == 0) {
+    const auto valid = testing::RunCommand(
+        "/usr/bin/python3 " + testing::SourceDir() + "/scripts/validate_report.py " +
+        testing::SourceDir() + "/schemas/report.schema.json " + report + "/report.json");
+    EXPECT_EQ(valid.exit_code, 0) << valid.output;
+  }
+  const nlohmann::json& json = report_json["details"];  // the obstacle evaluation's own layout
   ASSERT_TRUE(json.contains("alert_count"));
   ASSERT_TRUE(json.contains("precision"));
   ASSERT_TRUE(json.contains("recall"));

@@ -1,4 +1,4 @@
-// Output folders are written whole (issue 17, "Data integrity"; cli/output_folder.h): a dataset
+// Output folders are written whole (cli/output_folder.h): a dataset
 // simulated into the folder of another keeps none of the old streams, a report folder keeps no
 // file of an earlier report, and a folder that is neither empty nor of the same kind is refused
 // untouched. No staging folder "*.tmp-<pid>" is left beside the output.
@@ -39,7 +39,7 @@ TEST(OutputIntegrity, SimulateIntoAnotherDatasetKeepsNoOldStream) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_TRUE(fs::exists(out + "/mav0/tags0/data.csv"));
   ASSERT_FALSE(fs::exists(out + "/mav0/features0"));
-  r = Mavloc("simulate --scenario mav-figure-eight --duration 2 --out " + out + "/");
+  r = Mavloc("simulate --scenario mav-figure-eight --duration 2 --force --out " + out + "/");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_FALSE(fs::exists(out + "/mav0/tags0")) << "a stream of the old dataset survived";
   EXPECT_TRUE(fs::exists(out + "/mav0/features0/data.csv"));
@@ -78,7 +78,8 @@ TEST(OutputIntegrity, CompareReportKeepsNoStaleFile) {
   fs::create_directories(report);
   std::ofstream(report + "/report.json") << "{}\n";
   std::ofstream(report + "/estimate_old-estimator.tum") << "stale\n";
-  const auto r = Mavloc("compare --duration 2 --estimators imu-dead-reckoning --report " + report);
+  const auto r =
+      Mavloc("compare --duration 2 --estimators imu-dead-reckoning --force --report " + report);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_FALSE(fs::exists(report + "/estimate_old-estimator.tum")) << "stale file kept";
   EXPECT_TRUE(fs::exists(report + "/report.json"));
@@ -112,13 +113,13 @@ TEST(OutputIntegrity, EvalReportKeepsNoStaleFile) {
   }
   const std::string out = dir + "/eval";
   fs::create_directories(out);
-  std::ofstream(out + "/eval.json") << "{}\n";
+  std::ofstream(out + "/report.json") << "{}\n";
   std::ofstream(out + "/estimate_from_last_week.tum") << "stale\n";
-  const auto r =
-      Mavloc("eval --align none --gt " + dir + "/gt.txt --est " + dir + "/est.txt --out " + out);
+  const auto r = Mavloc("eval --align none --gt " + dir + "/gt.txt --est " + dir +
+                        "/est.txt --out " + out + " --force");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_FALSE(fs::exists(out + "/estimate_from_last_week.tum")) << "stale file kept";
-  EXPECT_TRUE(fs::exists(out + "/eval.json"));
+  EXPECT_TRUE(fs::exists(out + "/report.json"));
   EXPECT_EQ(LeftoverCount(dir), 0);
 }
 

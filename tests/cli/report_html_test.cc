@@ -1,8 +1,8 @@
-// Report folders get their figures and one self-contained report.html without a second command
-// (issue 13, item 5): `mavloc compare` and `mavloc repro` draw them; without Python the report is
-// still written, the exit code is unchanged and the output says how to get the figures (`mavloc
-// figures DIR` then draws them); headless Chromium (Debian's chromium, when installed) loads the
-// page with the network cut off and decodes every image.
+// Report folders get their figures and one self-contained report.html without a second command:
+// `mavloc compare` and `mavloc repro` draw them; without Python the report is still written, the
+// exit code is unchanged and the output says how to get the figures (`mavloc figures DIR` then
+// draws them); headless Chromium (Debian's chromium, when installed) loads the page with the
+// network cut off and decodes every image.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -86,7 +86,7 @@ TEST_F(ReportHtml, CompareWritesFiguresTrajectoriesAndThePage) {
   EXPECT_FALSE(fs::exists(report + "/estimate_gravity-ekf.tum"));
   const std::string html = ReadAll(report + "/report.html");
   EXPECT_EQ(Count(html, "src=\"data:image/png;base64,"), 3u);
-  EXPECT_NE(html.find("<th style=\"text-align:right\">ATE rmse [m]</th>"), std::string::npos);
+  EXPECT_NE(html.find("<th style=\"text-align:right\">ATE RMSE [m]</th>"), std::string::npos);
   EXPECT_NE(ReadAll(report + "/report.md").find("[report.html](report.html)"), std::string::npos);
 }
 

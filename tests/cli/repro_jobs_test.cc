@@ -1,5 +1,5 @@
 // `mavloc repro smoother|three-point|laser|pixhawk|apriltag --jobs N` run on the sweep machinery
-// (issue 16): N workers give the numbers of one process, because every run's result goes through
+// (evaluation/sweep/): N workers give the numbers of one process, because every run's result goes through
 // the same JSON text either way; only the wall-clock fields differ. A reproduction that has no
 // units (euroc-imu-april: one run on one real log) refuses --jobs > 1.
 #include <gtest/gtest.h>
@@ -38,7 +38,8 @@ nlohmann::json WithoutTimes(const nlohmann::json& json) {
   nlohmann::json out = nlohmann::json::object();
   for (const auto& [key, value] : json.items()) {
     if (key.find("runtime") != std::string::npos || key.find("ms_per_frame") != std::string::npos ||
-        key == "elapsed_s" || key == "jobs" || key == "cramer_rao_compute_s")
+        key == "elapsed_s" || key == "jobs" || key == "cramer_rao_compute_s" ||
+        key == "command")
       continue;
     out[key] = WithoutTimes(value);
   }
@@ -58,7 +59,9 @@ TwoRuns RunSerialAndParallel(const std::string& command, const std::string& dir)
         RunCommand(command + " --report " + dir + "/" + folder + " --jobs " + std::to_string(jobs));
     EXPECT_EQ(r.exit_code, 0) << r.output;
     if (r.exit_code != 0) return {};
-    const auto report = nlohmann::json::parse(Read(dir + "/" + folder + "/report.json"));
+    // The reproduction's own layout is the report's details.
+    const auto report =
+        nlohmann::json::parse(Read(dir + "/" + folder + "/report.json"))["details"];
     EXPECT_EQ(report["jobs"], jobs);
     (jobs == 1 ? runs.serial : runs.parallel) = report;
   }

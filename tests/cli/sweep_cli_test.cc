@@ -1,4 +1,4 @@
-// mavloc sweep end to end (issue 16): a parallel run gives the bytes of a serial run, shards merged
+// mavloc sweep end to end: a parallel run gives the bytes of a serial run, shards merged
 // in any order give the bytes of the single run, every merge problem (missing or duplicate shard,
 // mismatched fingerprint, incomplete partial) exits with 2 and names the problem, and --slurm
 // writes and submits the job array and the merge job (through a stand-in sbatch that records its
@@ -32,12 +32,20 @@ std::string Read(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+// The same bytes in report.md and runs.csv, and the same report.json but its provenance (the
+// command line and the elapsed time differ between a serial run and a merge of shards).
 void ExpectSameReport(const std::string& a, const std::string& b) {
-  for (const char* name : {"report.md", "report.json", "runs.csv"}) {
+  for (const char* name : {"report.md", "runs.csv"}) {
     const std::string left = Read(a + "/" + name), right = Read(b + "/" + name);
     EXPECT_FALSE(left.empty()) << a << "/" << name;
     EXPECT_TRUE(left == right) << name << " differs between " << a << " and " << b;
   }
+  nlohmann::json left = nlohmann::json::parse(Read(a + "/report.json"));
+  nlohmann::json right = nlohmann::json::parse(Read(b + "/report.json"));
+  left.erase("provenance");
+  right.erase("provenance");
+  EXPECT_TRUE(left == right) << "report.json differs between " << a << " and " << b << ":\n"
+                             << nlohmann::json::diff(left, right).dump(1);
 }
 
 void ExpectExit2(const testing::CommandResult& r, const std::string& must_contain) {
@@ -75,7 +83,7 @@ testing::CommandResult* SweepCli::serial_ = nullptr;
 bool SweepCli::shards_ok_ = false;
 
 TEST_F(SweepCli, ReportHoldsEveryRunAndCellStatistics) {
-  const auto report = nlohmann::json::parse(Read(P("serial/report.json")));
+  const auto report = nlohmann::json::parse(Read(P("serial/report.json")))["details"];
   EXPECT_EQ(report["sweep"]["units"], 6);
   ASSERT_EQ(report["runs"].size(), 6u);
   // Unit order: settings combination, then seed (the last axis fastest).
@@ -210,14 +218,20 @@ TEST_F(SweepCli, BadGridsExitWith2) {
                          "tag-pnp --set no_such_key=1 --out " +
                          P("bad")),
               "no_such_key");
-  // A value the scenario cannot parse fails inside a worker: the parallel runner stops and
-  // reports the worker's message with exit code 2.
+  // A number that does not parse is refused before any unit runs, naming the setting.
+  ExpectExit2(RunCommand(CliPath() +
+                         " sweep --scenario tag-arena-hover --duration 1 --estimators tag-pnp "
+                         "--seeds 1..2 --set corner_noise_px=abc --jobs 2 --out " +
+                         P("bad")),
+              "corner_noise_px");
+  // A value only the scenario itself can judge fails inside a worker: the parallel runner stops
+  // and reports the worker's message with exit code 2.
   const auto r = RunCommand(CliPath() +
-                            " sweep --scenario tag-arena-hover --duration 1 --estimators tag-pnp "
-                            "--seeds 1..2 --set corner_noise_px=abc --jobs 2 --out " +
+                            " sweep --scenario marker-board-flight --duration 1 --estimators pnp "
+                            "--seeds 1..2 --set image_stamping=bogus --jobs 2 --out " +
                             P("bad"));
   ExpectExit2(r, "failed (worker exit 2)");
-  EXPECT_NE(r.output.find("corner_noise_px"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("image_stamping"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(P("bad/report.md")));
 }
 
@@ -257,7 +271,8 @@ TEST_F(SweepCli, SlurmScriptsSubmissionStatusAndResubmit) {
     EXPECT_NE(script.find(line), std::string::npos) << line << "\n" << script;
   EXPECT_NE(Read(results + "/merge.sbatch").find("sweep-merge"), std::string::npos);
   // Submission: the array (id 101), then the merge after it (id 102).
-  r = RunCommand(env + CliPath() + " sweep " + kGrid + " --slurm --shards 3 --out " + results);
+  r = RunCommand(env + CliPath() + " sweep " + kGrid + " --slurm --shards 3 --force --out " +
+                 results);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("submitted array job 101 (3 tasks) and merge job 102 (afterok:101)"),
             std::string::npos)

@@ -58,7 +58,8 @@ TEST(AprilgridCornersIo, RealImuAprilLogBothCameras) {
     const AprilgridCornerLog log = ReadAprilgridCornerFolder(
         testing::SharedDataDir() + "/euroc_imu_april/cam" + std::to_string(camera), Euroc6x6(),
         options);
-    // SOURCES.md: 1,439 files per camera, 23 header-only, about 125 corners per frame.
+    // ../shared/data/SOURCES.md: 1,439 files per camera, 23 header-only, about 125 corners per
+    // frame.
     EXPECT_EQ(log.stats.frames, 1439);
     EXPECT_EQ(log.frames_ns.size(), 1439u);
     EXPECT_EQ(log.stats.empty_frames, 23);

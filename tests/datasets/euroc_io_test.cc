@@ -1,5 +1,5 @@
 // Reading the real EuRoC excerpt in ../shared/data, writing and reading back, and every bad-input
-// case of issue #2 with its file:line and field in the message.
+// case with its file:line and field in the message.
 #include "datasets/io/euroc_io.h"
 
 #include <gtest/gtest.h>
@@ -303,7 +303,7 @@ TEST(TumWriter, RoundTripKeepsNanoseconds) {
   EXPECT_TRUE(back[0].T_W_B.q.isApprox(poses[0].T_W_B.q, 1e-12));
 }
 
-// ---- issue 12: tags1 (cam1), map frame, atomic folder writes, the yac IMU CSV ----
+// ---- tags1 (cam1), map frame, atomic folder writes, the yac IMU CSV ----
 
 TEST(EurocWriter, Tags1AndBoardFrameRoundTrip) {
   const std::string dir = testing::MakeTempDir();
@@ -365,9 +365,9 @@ TEST(EurocReaderBadInput, UnknownMapFrameAndBadTags1Row) {
   EXPECT_NE(error.find("tags1/data.csv:2: field 'v3'"), std::string::npos) << error;
 }
 
-// Held-out catalogue of issue 17, class 4 (silent degradation) on the ASL reader: each mutation of
-// a written dataset used to load without a word (an estimator then failed on every frame, or a
-// column or coefficient was dropped); now each is refused naming the file and the field.
+// Silent degradation on the ASL reader: each mutation of a written dataset would otherwise load
+// without a word (an estimator then failing on every frame, or a column or coefficient dropped);
+// each is refused naming the file and the field.
 TEST(EurocReaderBadInput, SilentDegradationIsRefused) {
   struct Case {
     const char* name;

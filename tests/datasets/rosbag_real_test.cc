@@ -1,7 +1,8 @@
-// Real ROS1 bags of ../shared/data (SOURCES.md): robot_localization's test1.bag / test2.bag (IMU,
-// bz2 chunks) and TagSLAM's whole-file-bzip2 bags (apriltag_msgs tag detections, odometry, /tf).
-// Counts are checked against rosbag's own index (rosbag::View::size, what `rosbag info` prints),
-// units against gravity, and the corner order against TagSLAM's own tag map and trajectory.
+// Real ROS1 bags of ../shared/data (../shared/data/SOURCES.md): robot_localization's test1.bag /
+// test2.bag (IMU, bz2 chunks) and TagSLAM's whole-file-bzip2 bags (apriltag_msgs tag detections,
+// odometry, /tf). Counts are checked against rosbag's own index (rosbag::View::size, what `rosbag
+// info` prints), units against gravity, and the corner order against TagSLAM's own tag map and
+// trajectory.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>

@@ -571,7 +571,7 @@ void ExpectImuReadRefused(const std::string& path, const std::string& expected) 
 }
 
 // Found by fuzz_rosbag: rosbag::Bag::open read a header length of 4 GB at the index position and
-// allocated it before the read failed. The record walk now runs before rosbag opens the bag.
+// allocated it before the read failed. The record walk runs before rosbag opens the bag.
 TEST(RosbagErrors, CorruptLengthsAndPositionsAreRefusedBeforeRosbagReadsThem) {
   const std::string dir = testing::MakeTempDir();
   const std::string good = dir + "/good.bag";

@@ -1,4 +1,4 @@
-// Trajectory readers and writers of issue 13 (datasets/io/trajectory_formats): every accepted
+// Trajectory readers and writers (datasets/io/trajectory_formats): every accepted
 // variant of the files evo, ov_eval, Kimera-VIO, VINS-Fusion and the KITTI devkit read or write,
 // every refused case with its file:line and field, and the real EuRoC V1_01 ground truth in both
 // of its formats.

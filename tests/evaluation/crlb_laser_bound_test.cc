@@ -1,5 +1,5 @@
 // The smoother's Cramér–Rao bound on laser-only data (evaluation/crlb/laser_bound.h,
-// smoother_bound.h; issue 15):
+// smoother_bound.h):
 // - the analytic Jacobians against central differences of the simulator's own functions
 //   (SimulateLaserSpots with zero noise for the spot's bearing angle, LaserTruthQuantities for
 //   d, v_o, roll, pitch, alpha), with the laser-plane camera and with a camera moved and turned in
@@ -232,7 +232,7 @@ TEST(CrlbLaserBound, QuantitiesAreTheDatasetsTruthAndTheirBoundIsGaugeInvariant)
 }
 
 // The Monte-Carlo size: the default, or MAVLOC_CRLB_LASER_SEEDS and MAVLOC_CRLB_LASER_DURATION_S
-// for a longer measurement (README: 20 seeds x 60 s, the paper's run).
+// for a longer measurement (docs/cramer-rao.md: e.g. 40 seeds x 30 s; the paper's run is 60 s).
 int SeedCount(int default_count) {
   const char* text = std::getenv("MAVLOC_CRLB_LASER_SEEDS");
   return text ? std::max(2, std::atoi(text)) : default_count;

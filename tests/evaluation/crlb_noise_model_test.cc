@@ -1,7 +1,7 @@
 // The noise the tag-arena and marker-board-flight simulations draw against the noise the smoother
-// and its Cramér–Rao bound are told (issue 15: the smoother's RMSE was below the bound, so either
-// the simulator draws less noise than the shared model states, or the errors are measured in a way
-// that removes error). Measured on one fixed seed per scenario, each statistic against the number
+// and its Cramér–Rao bound are told: a smoother RMSE below the bound would mean that the simulator
+// draws less noise than the shared model states, or that the errors are measured in a way that
+// removes error. Measured on one fixed seed per scenario, each statistic against the number
 // the smoother reads (SmootherEstimator::ProblemOptionsFor, the same call ComputeSmootherCrlb
 // makes):
 // - tag corners: observed minus the projection of the TRUE corner (map tag pose, ground-truth
@@ -204,8 +204,8 @@ TEST(CrlbNoiseModel, HoverImuNoiseIsTheStatedModel) { CheckImuNoise("tag-arena-h
 
 TEST(CrlbNoiseModel, DynamicImuNoiseIsTheStatedModel) { CheckImuNoise("tag-arena-dynamic"); }
 
-// marker-board-flight (issue 15, session 6: its smoother RMSE / bound is 1.14 for position over 20
-// seeds): the same checks.
+// marker-board-flight (its smoother RMSE / bound is 1.14 for position over 20 seeds, Monte-Carlo
+// noise: docs/cramer-rao.md): the same checks.
 TEST(CrlbNoiseModel, MarkerBoardCornerNoiseIsTheStatedPixelSigma) {
   CheckCornerNoise("marker-board-flight", /*interpolate=*/true);
 }

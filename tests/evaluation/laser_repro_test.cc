@@ -139,7 +139,7 @@ TEST(LaserReproCli, SmallEndToEndRun) {
       (euroc ? " --set data=" + testing::SharedDataDir() + "/euroc_v1_01_easy" : ""));
   ASSERT_EQ(result.exit_code, 0) << result.output;
   std::ifstream in(dir + "/report.json");
-  const nlohmann::json json = nlohmann::json::parse(in);
+  const nlohmann::json json = nlohmann::json::parse(in)["details"];  // the repro's own layout
   EXPECT_EQ(json["tables"]["simulated"]["no_bias"]["runs"], 2);
   EXPECT_EQ(json["tables"]["simulated"]["with_bias"]["runs"], 2);
   const auto& alpha = json["tables"]["simulated"]["no_bias"]["quantities"]["alpha"];

@@ -1,4 +1,4 @@
-// Figures and report.html of report folders (issue 13, item 5): sample eval, compare and repro
+// Figures and report.html of report folders: sample eval, compare and repro
 // folders written here get their PNG figures and one self-contained report.html; without Python or
 // without matplotlib the page and the Markdown report are still written and say how to get them.
 #include "evaluation/report_figures.h"
@@ -149,8 +149,8 @@ std::string SampleEvalFolder() {
   }
   Write(dir + "/errors_over_time.csv", errors);
   Write(dir + "/relative_errors.csv", relative);
-  Write(dir + "/eval.json", "{}\n");
-  Write(dir + "/eval.md",
+  Write(dir + "/eval.json", "{\"report_kind\": \"eval\"}\n");
+  Write(dir + "/report.md",
         "# mavloc eval: sample\n\n| estimate | ATE rmse [m] |\n| --- | ---: |\n| vio | 0.0500 |\n"
         "| lio | 0.1200 |\n");
   return dir;
@@ -173,7 +173,7 @@ std::string SampleCompareFolder() {
     }
   }
   Write(dir + "/errors.csv", csv);
-  Write(dir + "/report.json", "{\"estimators\": {}}\n");
+  Write(dir + "/report.json", "{\"report_kind\": \"compare\", \"estimators\": {}}\n");
   Write(
       dir + "/report.md",
       "# mavloc compare: sample\n\n| estimator | x [m] |\n| --- | ---: |\n| smoother | 0.001 |\n");
@@ -187,7 +187,7 @@ std::string SampleCompareFolder() {
 std::string SampleReproFolder() {
   const std::string dir = MakeTempDir() + "/repro";
   fs::create_directories(dir);
-  Write(dir + "/report.json", R"({"paper": "sample", "tables": {
+  Write(dir + "/report.json", R"({"report_kind": "repro", "paper": "sample", "tables": {
     "table1": {"estimators": {
       "three-point": {"quantities": {"roll": {"mean_abs": 0.5, "paper": 0.4, "unit": "deg"},
                                      "x": {"mean_abs": 2.0, "paper": 2.5, "unit": "%"}}},
@@ -235,7 +235,7 @@ TEST(ReportFigures, EvalFolderGetsTrajectoryErrorAndRelativeErrorFigures) {
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);
   EXPECT_EQ(html.find("<link"), std::string::npos);
   // The Markdown report points at the figures.
-  const std::string md = ReadAll(dir + "/eval.md");
+  const std::string md = ReadAll(dir + "/report.md");
   EXPECT_EQ(Count(md, "## Figures"), 1u) << md;
   EXPECT_NE(md.find("![trajectory.png](trajectory.png)"), std::string::npos) << md;
 }
@@ -312,7 +312,7 @@ TEST(ReportFigures, WithoutMatplotlibTheReportSaysWhichPackage) {
   EXPECT_NE(outcome.reason.find("test stand-in"), std::string::npos) << outcome.reason;
   EXPECT_NE(outcome.how_to_get_figures.find("python3-matplotlib"), std::string::npos);
   EXPECT_TRUE(fs::exists(dir + "/report.html"));
-  EXPECT_NE(ReadAll(dir + "/eval.md").find("To get them"), std::string::npos);
+  EXPECT_NE(ReadAll(dir + "/report.md").find("To get them"), std::string::npos);
 }
 
 TEST(ReportFigures, MissingFolderOrUnknownFolderDoesNotThrow) {

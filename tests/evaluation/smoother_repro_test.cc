@@ -31,7 +31,7 @@ TEST(SmootherReproCli, SmallEndToEndRun) {
   ASSERT_EQ(result.exit_code, 0) << result.output;
   std::ifstream in(dir + "/report.json");
   ASSERT_TRUE(in.good());
-  const nlohmann::json json = nlohmann::json::parse(in);
+  const nlohmann::json json = nlohmann::json::parse(in)["details"];  // the repro's own layout
   EXPECT_EQ(json["runs"], 2);
   EXPECT_EQ(json["first_seed"], 3);
   const auto& tables = json["tables"];

@@ -186,7 +186,7 @@ TEST(SmootherNoiseless, LaserSpotOnUnknownPlaneReturnsTheObservableModes) {
       Simulate("laser-plane", 1, 20.0,
                {{"gyro_sigma_deg_s", "0"}, {"accel_sigma_m_s2", "0"}, {"bearing_noise_deg", "0"}});
   for (const char* name : {"laser-ekf", "smoother"}) {
-    // The smoother's options only: estimators refuse options they do not have (issue 17).
+    // The smoother's options only: estimators refuse options they do not have.
     const EstimatorOptions options = std::string(name) == "smoother"
                                          ? Options({{"loss", "none"}, {"max_iterations", "300"}})
                                          : Options({});

@@ -90,10 +90,10 @@ class StereoAloeTest : public ::testing::Test {
   cv::Mat left_, right_, gt_;
 };
 
-// The settings reported in the README: DisparityOptions defaults (StereoBM, 15 x 15 SAD block,
-// x-Sobel prefilter capped at 31, texture threshold 10, uniqueness ratio 15 %, speckle window
-// 100 px / range 2 px, left-right check 1 px) with the search range widened to 224 px because
-// Aloe's disparities reach 211 px.
+// The settings reported in docs/commands/obstacles.md: DisparityOptions defaults (StereoBM, 15 x 15
+// SAD block, x-Sobel prefilter capped at 31, texture threshold 10, uniqueness ratio 15 %, speckle
+// window 100 px / range 2 px, left-right check 1 px) with the search range widened to 224 px
+// because Aloe's disparities reach 211 px.
 DisparityOptions AloeOptions(StereoMatcherType matcher) {
   DisparityOptions options;
   options.matcher = matcher;

@@ -141,10 +141,10 @@ SyntheticTag MakeSyntheticTag(int id, int s, int x0, int y0) {
 }
 
 TEST(TagDetectorSynthetic, CornerOrderAndPixelConventionOnExactImage) {
-  // refine_edges of Debian's libapriltag 3.3.0 carries the upstream bias fixed in 2024 (PR #346):
-  // on this pixel-aligned, non-anti-aliased image up to about 0.25 px; without it the fit is exact
-  // to a few hundredths. (On area-integrated edges, refine_edges is the more accurate: see
-  // tests/evaluation/apriltag_repro_test.cc.)
+  // refine_edges of Debian's libapriltag 3.3.0 carries the bias upstream has since fixed
+  // (AprilRobotics/apriltag pull request 346): on this pixel-aligned, non-anti-aliased image up to
+  // about 0.25 px; without it the fit is exact to a few hundredths. (On area-integrated edges,
+  // refine_edges is the more accurate: see tests/evaluation/apriltag_repro_test.cc.)
   for (const bool refine : {false, true}) {
     const double tolerance_px = refine ? 0.3 : 0.05;
     TagDetectorOptions options;

@@ -1,9 +1,9 @@
-// The bad-input catalogue of issue 17, table-driven: mutated copies of simulated datasets through
+// The bad-input catalogue, table-driven: mutated copies of simulated datasets through
 // the real CLI. Every refused case must exit with code 2, print one line naming the file, the line
 // and the field, and leave no report folder behind. A second table holds inputs that must keep
 // loading (a BOM, CRLF, quaternions printed with few decimals): too strict is a bug as well.
 //
-// Cases come from two sources: hand-written ones per class of the issue (YAML types, absurd
+// Cases come from two sources: hand-written ones per class of bad input (YAML types, absurd
 // values, ids, silent degradation, messages), and generated ones: every data column of every CSV
 // stream with 1e308, nan, text and an empty value.
 #include <gtest/gtest.h>
@@ -200,7 +200,7 @@ class BadInputCatalogue : public ::testing::Test {
       for (const auto& expected : c.expected)
         EXPECT_NE(outcome.output.find(expected), std::string::npos)
             << "expected '" << expected << "' in: " << outcome.output;
-      // One line of reasonable length, no raw control bytes (issue 17, "Messages").
+      // One line of reasonable length, no raw control bytes.
       EXPECT_LT(outcome.output.size(), 1500u) << outcome.output.substr(0, 300);
       for (char ch : outcome.output) {
         const auto byte = static_cast<unsigned char>(ch);

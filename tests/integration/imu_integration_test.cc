@@ -1,5 +1,5 @@
 // The key test of sign and frame conventions: integrating the noiseless synthetic IMU from the
-// true initial state reproduces the trajectory (issue #2: below 1 mm after 10 s at 200 Hz).
+// true initial state reproduces the trajectory (below 1 mm after 10 s at 200 Hz).
 #include <gtest/gtest.h>
 
 #include "core/random.h"

@@ -1,6 +1,6 @@
 // Smoother initialization from a seed estimator's poses: seeded keyframes take the seed, keyframes
 // where the seed failed are bridged by the IMU, forwards from the previous keyframe and backwards
-// before the first seed pose (issue #7, deliverable 4).
+// before the first seed pose.
 #include "solver/smoother/smoother_initialization.h"
 
 #include <gtest/gtest.h>

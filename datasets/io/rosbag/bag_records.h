@@ -18,6 +18,8 @@
 #include <map>
 #include <string>
 
+#include "core/input_limits.h"
+
 namespace mavloc::ros1 {
 
 struct BagRecordScan {
@@ -31,7 +33,7 @@ struct BagRecordScan {
   std::string problem;
 };
 
-constexpr uint64_t kMaxChunkBytes = uint64_t{1} << 30;  // rosbag writes chunks of ~768 kB
+constexpr uint64_t kMaxChunkBytes = input_limits::kMaxBagChunkBytes;  // core/input_limits.h
 
 // Throws InputError when the file cannot be opened or does not start with "#ROSBAG V2.0\n".
 BagRecordScan ScanBagRecords(const std::string& path);

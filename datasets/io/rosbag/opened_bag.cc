@@ -54,6 +54,7 @@ OpenedBag::OpenedBag(const std::string& path) : path_(path), opened_path_(path) 
   }
   if (IsBzip2File(path)) {
     temporary_path_ = TemporaryBagPath();
+    temporary_guard_ = std::make_unique<TemporaryPathGuard>(temporary_path_);
     DecompressBzip2File(path, temporary_path_);
     opened_path_ = temporary_path_;
   }

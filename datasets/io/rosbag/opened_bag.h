@@ -1,9 +1,10 @@
 // A ROS1 bag opened for reading with rosbag::Bag, and the message loop every reader shares.
 // A whole-file bzip2 bag is first decompressed (streaming) into a temporary file in the system's
-// temporary folder, removed when the OpenedBag is destroyed. rosbag_storage's exceptions become
-// InputErrors naming the file, the topic and the message index, or the byte where a truncated or
-// corrupt bag stops (from ScanBagRecords, bag_records.h). The ROS libraries' own console output
-// is silenced, so a bad bag gives one line on stderr.
+// temporary folder, removed when the OpenedBag is destroyed or the command is interrupted
+// (core/interrupt.h). rosbag_storage's exceptions become InputErrors naming the file, the topic
+// and the message index, or the byte where a truncated or corrupt bag stops (from ScanBagRecords,
+// bag_records.h). The ROS libraries' own console output is silenced, so a bad bag gives one line
+// on stderr.
 #pragma once
 
 #include <rosbag/bag.h>
@@ -11,9 +12,11 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "core/interrupt.h"
 #include "datasets/io/rosbag/ros_messages.h"
 
 namespace mavloc::ros1 {
@@ -54,6 +57,9 @@ class OpenedBag {
   std::string path_;
   std::string opened_path_;
   std::string temporary_path_;
+  // Registers temporary_path_ with the interrupt cleanup (core/interrupt.h) from before the file
+  // is created until after the destructor has removed it.
+  std::unique_ptr<TemporaryPathGuard> temporary_guard_;
   rosbag::Bag bag_;
 };
 

@@ -16,10 +16,12 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
 #include <tf2_msgs/TFMessage.h>
+#include <algorithm>
 #include <cstddef>
 #include <limits>
 #include <memory>
 #include <string>
+#include <type_traits>
 
 #include "core/time.h"
 
@@ -27,11 +29,26 @@ namespace mavloc::ros1 {
 
 // ros::serialization reads an array's uint32 length and resizes the vector before it checks that
 // the message holds that many elements, so one corrupt length (4e9 tags) asks for hundreds of
-// gigabytes. Every element of a ROS1 array takes at least one byte on the wire, so while a message
-// of n bytes is deserialized (OpenedBag::ForEachMessage sets the limit) no message container can
-// hold more than n elements: RosAllocator refuses a larger allocation with the
-// StreamOverrunException that a short message gives.
+// gigabytes. Every element of a ROS1 array takes at least MinimumWireBytes<T>() bytes on the wire
+// (the serialized length of an empty element: 1 for uint8, 8 for float64, 368 for an
+// AprilTagDetection), so while a message of n bytes is deserialized (OpenedBag::ForEachMessage
+// sets the limit) no message container can hold more than n / MinimumWireBytes elements:
+// RosAllocator refuses a larger allocation with the StreamOverrunException that a short message
+// gives. Bounding by bytes rather than by a count of 1 byte per element matters for nested types:
+// a vector of n AprilTagDetections would otherwise allocate n times their ~450 bytes.
 inline thread_local std::size_t message_element_limit = std::numeric_limits<std::size_t>::max();
+
+// The fewest bytes one element of type T takes on the wire (at least 1).
+template <class T>
+std::size_t MinimumWireBytes() {
+  if constexpr (std::is_arithmetic_v<T>) {
+    return sizeof(T);
+  } else {
+    static const std::size_t bytes =
+        std::max<std::size_t>(1, ros::serialization::serializationLength(T()));
+    return bytes;
+  }
+}
 
 // Sets message_element_limit for one message's deserialization.
 class MessageElementLimit {
@@ -59,10 +76,11 @@ struct RosAllocator : std::allocator<T> {
   };
   T* allocate(std::size_t count) {
     // count - 1: a string allocates room for its terminating null.
-    if (count > 0 && count - 1 > message_element_limit) {
+    if (count > 0 && count - 1 > message_element_limit / MinimumWireBytes<T>()) {
       throw ros::serialization::StreamOverrunException(
           "an array of " + std::to_string(count) + " elements in a message of " +
-          std::to_string(message_element_limit) + " bytes");
+          std::to_string(message_element_limit) + " bytes (an element takes at least " +
+          std::to_string(MinimumWireBytes<T>()) + " bytes)");
     }
     return std::allocator<T>::allocate(count);
   }

@@ -10,6 +10,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/image_check.h"
 #include "datasets/io/rosbag/opened_bag.h"
 #include "datasets/io/rosbag/ros_messages.h"
 #include "datasets/io/rosbag/rosbag_reader.h"
@@ -93,11 +94,15 @@ std::vector<CameraFrame> ExportRosbagImages(const std::string& path, const std::
       t_ns = ros1::ToNs(msg->header.stamp);
       const cv::Mat bytes(1, static_cast<int>(msg->data.size()), CV_8UC1,
                           const_cast<uint8_t*>(msg->data.data()));
-      if (!msg->data.empty()) image = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+      // A damaged PNG or JPEG is refused before OpenCV hands it to libpng / libjpeg, which would
+      // print their own line (core/image_check.h).
+      const std::string damage = ImageDamage(std::string(msg->data.begin(), msg->data.end()));
+      if (damage.empty() && !msg->data.empty()) image = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
       if (image.empty()) {
-        bag.Fail(topic, index,
-                 fmt::format("cannot decode the '{}' image ({} bytes)",
-                             ros1::ToStdString(msg->format), msg->data.size()));
+        bag.Fail(
+            topic, index,
+            fmt::format("cannot decode the '{}' image ({} bytes){}", ros1::ToStdString(msg->format),
+                        msg->data.size(), damage.empty() ? "" : ": " + damage));
       }
     } else {
       const auto msg = ros1::Instantiate<ros1::ImageMsg>(bag, topic, index, message);

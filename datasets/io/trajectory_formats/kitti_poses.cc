@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/errors.h"
+#include "core/number_text.h"
 #include "datasets/io/trajectory_formats/trajectory_format.h"
 #include "datasets/io/trajectory_formats/trajectory_stamps.h"
 
@@ -27,16 +28,16 @@ KittiRowsResult ParseKittiRows(const TrajectoryText& text) {
   for (const TrajectoryRow& row : text.rows) {
     if (row.fields.size() != 12)
       throw InputError(text.path, row.line,
-                       row.fields.size() < 12 ? KittiFieldName(row.fields.size()) : "",
+                       row.fields.size() < 12 ? KittiFieldName(row.fields.size()) : "column 13",
                        fmt::format("expected 12 fields (KITTI: 3x4 pose, row-major), found {}",
                                    row.fields.size()));
     Eigen::Matrix<double, 3, 4> T;
     for (size_t k = 0; k < 12; ++k) {
-      double value = 0.0;
-      if (!ParseFiniteDouble(row.fields[k], &value))
+      const ParsedNumber<double> value = ParseDoubleText(row.fields[k]);
+      if (!value.ok())
         throw InputError(text.path, row.line, KittiFieldName(k),
-                         "'" + row.fields[k] + "' is not a finite number");
-      T(k / 4, k % 4) = value;
+                         DescribeNumberText(row.fields[k], value, "a finite number"));
+      T(k / 4, k % 4) = value.value;
     }
     const Eigen::Matrix3d R = T.leftCols<3>();
     const double error = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
@@ -68,11 +69,12 @@ KittiTimes ReadKittiTimes(const std::string& path) {
   for (const TrajectoryRow& row : text.rows) {
     if (row.fields.size() != 1)
       throw InputError(
-          path, row.line, "",
-          fmt::format("expected one stamp [s] per line, found {} fields", row.fields.size()));
+          path, row.line, "column 2",
+          fmt::format("expected 1 field (one stamp [s] per line), found {}", row.fields.size()));
     TimeNs t = 0;
     if (!ParseSecondsAsNs(row.fields[0], &t))
-      throw InputError(path, row.line, "timestamp", DescribeBadStamp(row.fields[0], true));
+      throw InputError(path, row.line, "timestamp",
+                       DescribeBadStamp(row.fields[0], true, "KITTI times file"));
     times.t_ns.push_back(t);
     times.lines.push_back(row.line);
   }

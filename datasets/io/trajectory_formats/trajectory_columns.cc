@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <cctype>
+#include <numbers>
 
 #include "core/errors.h"
 #include "core/text.h"
@@ -31,6 +32,9 @@ enum class Role {
   kBax,
   kBay,
   kBaz,
+  kRoll,
+  kPitch,
+  kYaw,
 };
 
 struct Normalised {
@@ -89,6 +93,9 @@ Role RoleOf(const std::string& name) {
     if (name == "ba" + a || name == "b_a_" + a || name == "b_a_rs_s_" + a || name == "ba_" + a)
       return static_cast<Role>(static_cast<int>(Role::kBax) + k);
   }
+  if (name == "roll") return Role::kRoll;
+  if (name == "pitch") return Role::kPitch;
+  if (name == "yaw") return Role::kYaw;
   static const char kQuat[] = {'w', 'x', 'y', 'z'};
   for (int k = 0; k < 4; ++k) {
     const std::string c(1, kQuat[k]);
@@ -145,21 +152,49 @@ void Assign(PoseColumnLayout* layout, Role role, int column, bool* header_stamp_
       if (slot < 0) slot = column;
       break;
     }
+    case Role::kRoll:
+    case Role::kPitch:
+    case Role::kYaw: {
+      int& slot = layout->rpy[static_cast<int>(role) - static_cast<int>(Role::kRoll)];
+      if (slot < 0) slot = column;
+      break;
+    }
     case Role::kNone:
       break;
   }
 }
 
+bool AllSet(const std::array<int, 3>& columns) {
+  return std::all_of(columns.begin(), columns.end(), [](int c) { return c >= 0; });
+}
+
 bool Complete(const PoseColumnLayout& l) {
-  return l.t >= 0 && std::all_of(l.p.begin(), l.p.end(), [](int c) { return c >= 0; }) &&
-         std::all_of(l.q_wxyz.begin(), l.q_wxyz.end(), [](int c) { return c >= 0; });
+  return l.t >= 0 && AllSet(l.p) && (l.HasQuaternion() || l.HasRollPitchYaw());
 }
 
 size_t MaxColumn(const PoseColumnLayout& l) {
   int m = l.t;
   for (int c : l.p) m = std::max(m, c);
   for (int c : l.q_wxyz) m = std::max(m, c);
+  for (int c : l.rpy) m = std::max(m, c);
   return static_cast<size_t>(m) + 1;
+}
+
+// Whether the header names a timestamp and a position: then it describes the columns, and rows
+// are never read by position instead (a positional layout would take other columns for the
+// quaternion).
+bool NamesStampAndPosition(const TrajectoryText& text) {
+  PoseColumnLayout l;
+  bool header_stamp_seen = false;
+  for (size_t k = 0; k < text.header.size(); ++k)
+    Assign(&l, RoleOf(Normalise(text.header[k]).name), static_cast<int>(k), &header_stamp_seen);
+  return l.t >= 0 && AllSet(l.p);
+}
+
+// A comma row's stamp written with a decimal point is in seconds: the row is TUM's, not EuRoC's
+// (whose stamps are integer nanoseconds).
+bool DecimalStamp(const TrajectoryRow& row) {
+  return !row.fields.empty() && row.fields[0].find('.') != std::string::npos;
 }
 
 // OpenVINS ov_msckf's state file names groups, not columns: "timestamp(s) q p v bg ba ...".
@@ -202,6 +237,12 @@ std::string PoseColumnLayout::Name(size_t k) const {
   if (k < names.size() && !names[k].empty()) return names[k];
   return "column " + std::to_string(k + 1);
 }
+
+bool PoseColumnLayout::HasQuaternion() const {
+  return std::all_of(q_wxyz.begin(), q_wxyz.end(), [](int c) { return c >= 0; });
+}
+
+bool PoseColumnLayout::HasRollPitchYaw() const { return AllSet(rpy); }
 
 bool PoseColumnLayout::HasBiases() const {
   for (int c : b_g)
@@ -269,6 +310,11 @@ std::optional<PoseColumnLayout> LayoutFromHeader(const TrajectoryText& text) {
     if (n.name == "tx") tum_names = true;
   }
   if (!Complete(l)) return std::nullopt;
+  if (l.HasQuaternion()) l.rpy = {-1, -1, -1};
+  if (l.HasRollPitchYaw()) {
+    const std::string unit = Normalise(text.header[l.rpy[0]]).unit;
+    l.rpy_to_rad = unit == "deg" || unit == "degrees" ? std::numbers::pi / 180.0 : 1.0;
+  }
   l.min_fields = MaxColumn(l);
   for (const auto* group : {&l.v, &l.b_g, &l.b_a})
     for (int c : *group) l.min_fields = std::max(l.min_fields, static_cast<size_t>(c + 1));
@@ -277,12 +323,14 @@ std::optional<PoseColumnLayout> LayoutFromHeader(const TrajectoryText& text) {
   // first stamp is written with a fraction.
   const Normalised stamp = Normalise(text.header[l.t]);
   const std::string& name = stamp.name;
-  if (stamp.unit == "ns" || EndsWith(name, "_ns") || name == "field_header_stamp")
+  if (stamp.unit == "ns" || EndsWith(name, "_ns") || name == "field_header_stamp") {
     l.unit = StampUnit::kNanoseconds;
-  else if (stamp.unit == "s" || stamp.unit == "sec" || EndsWith(name, "_s") ||
-           EndsWith(name, "_sec") || name == "sec" || name == "seconds")
+    l.unit_stated = true;
+  } else if (stamp.unit == "s" || stamp.unit == "sec" || EndsWith(name, "_s") ||
+             EndsWith(name, "_sec") || name == "sec" || name == "seconds") {
     l.unit = StampUnit::kSeconds;
-  else if (tum_names || !text.comma_separated)
+    l.unit_stated = true;
+  } else if (tum_names || !text.comma_separated)
     l.unit = StampUnit::kSeconds;
   else {
     const std::string first =
@@ -305,6 +353,11 @@ TrajectoryFormat DetectTrajectoryFormat(const TrajectoryText& text) {
   if (auto layout = LayoutFromHeader(text)) return layout->format;
   const TrajectoryRow& first = text.rows.front();
   const size_t n = first.fields.size();
+  if (NamesStampAndPosition(text))
+    throw InputError(text.path, 0, "",
+                     "the header '" + text.header_line +
+                         "' names a timestamp and a position but no attitude (qw,qx,qy,qz or "
+                         "roll,pitch,yaw): the rows hold no pose");
   if (!text.comma_separated) {
     if (n == 8 || n == 20) return TrajectoryFormat::kTum;
     if (n == 12) return TrajectoryFormat::kKitti;
@@ -313,6 +366,15 @@ TrajectoryFormat DetectTrajectoryFormat(const TrajectoryText& text) {
                                  "(TUM has 8 or, from ov_eval, 20; KITTI 12); no header names the "
                                  "columns; force one with --format",
                                  n));
+  }
+  if (DecimalStamp(first)) {
+    if (n == 8 || n == 20) return TrajectoryFormat::kTum;
+    throw InputError(text.path, first.line, "",
+                     fmt::format("a comma row whose stamp '{}' has a decimal point is a TUM row in "
+                                 "seconds (8 fields: timestamp tx ty tz qx qy qz qw), but this one "
+                                 "has {}; name the columns in a header line (e.g. "
+                                 "'#timestamp [s],x,y,z,qw,qx,qy,qz')",
+                                 first.fields[0], n));
   }
   if (n >= 8) return TrajectoryFormat::kEuroc;
   throw InputError(text.path, first.line, "",

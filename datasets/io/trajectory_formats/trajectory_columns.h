@@ -21,16 +21,23 @@ struct PoseColumnLayout {
   int t = -1;
   std::array<int, 3> p{-1, -1, -1};
   std::array<int, 4> q_wxyz{-1, -1, -1, -1};
+  // Attitude as roll, pitch, yaw (R = Rz(yaw) Ry(pitch) Rx(roll), core/rotation.h) when the header
+  // names these and no quaternion: mavloc's own quantity CSVs (`mavloc run --out FILE.csv`).
+  std::array<int, 3> rpy{-1, -1, -1};
+  double rpy_to_rad = 1.0;  // 1 for radians, pi/180 for a header stating degrees
   std::array<int, 3> v{-1, -1, -1};
   std::array<int, 3> b_g{-1, -1, -1};
   std::array<int, 3> b_a{-1, -1, -1};
   StampUnit unit = StampUnit::kSeconds;
+  bool unit_stated = false;        // the header states the stamp's unit ("[ns]", "(s)", "_ns")
   size_t min_fields = 8;           // every row needs at least this many fields
   size_t exact_fields = 0;         // when > 0, every row needs exactly this many
   std::vector<std::string> names;  // column names for messages (index -> name)
 
   std::string Name(size_t k) const;  // names[k], or "column k+1"
   bool HasVelocity() const { return v[0] >= 0 && v[1] >= 0 && v[2] >= 0; }
+  bool HasQuaternion() const;
+  bool HasRollPitchYaw() const;
   bool HasBiases() const;
 };
 

@@ -1,5 +1,5 @@
 // Trajectory files as the tools of this field write them, read into mavloc's poses T_W_B with
-// int64 nanosecond stamps (issue 13). Formats (the name is what --gt-format/--est-format take):
+// int64 nanosecond stamps. Formats (the name is what --gt-format/--est-format take):
 //   tum   - "timestamp tx ty tz qx qy qz qw", seconds (TUM RGB-D benchmark, evo, mavloc); also
 //           OpenVINS ov_eval's 20-column variant (the pose, then 12 covariance values, ignored).
 //   euroc - EuRoC/ASL ground truth without relying on its header: "t_ns, p_x, p_y, p_z, q_w, q_x,
@@ -13,9 +13,17 @@
 //           stamps (an optional times file gives one stamp in seconds per line, as KITTI's
 //           times.txt). Without it the i-th pose gets stamp i seconds and `has_stamps` is false:
 //           evo associates such files by index.
-// Detection (auto) from the content: a header whose names give a timestamp, a position and a
-// quaternion -> asl (euroc when they are EuRoC's own names); otherwise whitespace rows of 8 or 20
-// fields -> tum, of 12 -> kitti; comma rows of 8 or more -> euroc.
+//           The attitude may be named roll, pitch, yaw instead of a quaternion (R = Rz(yaw)
+//           Ry(pitch) Rx(roll); radians unless the header says [deg]): mavloc's quantity CSVs.
+// Detection (auto) from the content: a header whose names give a timestamp, a position and an
+// attitude -> asl (euroc when they are EuRoC's own names); a header naming a timestamp and a
+// position without an attitude is refused (its rows are never read by position); otherwise
+// whitespace rows of 8 or 20 fields -> tum, of 12 -> kitti; comma rows whose stamp has a decimal
+// point -> tum (seconds; 8 or 20 fields, else refused); other comma rows of 8 or more -> euroc.
+// Seconds are never read as nanoseconds: stamps taken for nanoseconds without a header stating
+// the unit are refused when they look like seconds (trajectory_stamps.h: a rate beyond any pose
+// source, or a date before 1971 that is a date as seconds), and stamps that must be seconds but
+// look like nanoseconds, microseconds or milliseconds since 1970 are refused with the divisor.
 //
 // Rows (all formats): exactly repeated stamps keep the first row and count the others (evo's
 // nearest-stamp association takes the first of equal stamps too); a stamp earlier than the one
@@ -92,5 +100,9 @@ LoadedTrajectory ReadTrajectory(const std::string& path, const TrajectoryReadOpt
 // One line for the terminal and the report when rows were dropped or sorted (empty otherwise):
 // "F: 3 rows with a repeated timestamp dropped (kept the first), first at F:12".
 std::string DescribeRowFixes(const TrajectoryReadReport& report);
+
+// How many of the file's data rows became poses, and why the others did not: "" when every row
+// did, else "146 of 7228 rows (7082 with a repeated timestamp dropped, kept the first)".
+std::string DescribeRowsKept(const TrajectoryReadReport& report, size_t poses);
 
 }  // namespace mavloc

@@ -2,13 +2,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
 #include <numeric>
 
 #include "core/errors.h"
+#include "core/number_text.h"
 #include "core/physical_limits.h"
+#include "core/rotation.h"
 #include "datasets/io/trajectory_formats/kitti_poses.h"
 #include "datasets/io/trajectory_formats/trajectory_columns.h"
 #include "datasets/io/trajectory_formats/trajectory_format.h"
@@ -28,17 +28,47 @@ struct RowState {
 
 double Number(const std::string& path, const TrajectoryRow& row, const PoseColumnLayout& layout,
               int column) {
-  const std::string& text = row.fields[column];
-  const std::string field = layout.Name(column);
-  if (text.empty()) throw InputError(path, row.line, field, "empty value");
-  char* end = nullptr;
-  errno = 0;
-  const double value = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0')
-    throw InputError(path, row.line, field, "'" + text + "' is not a number");
-  if (!std::isfinite(value) || errno == ERANGE)
-    throw InputError(path, row.line, field, "'" + text + "' is not finite");
-  return value;
+  return RequireDoubleText(row.fields[column], path, row.line, layout.Name(column));
+}
+
+// The row's attitude: its quaternion (normalised within kQuaternionNormTolerance, counted in the
+// report when it was off by more than 1e-6), or its roll, pitch and yaw.
+Eigen::Quaterniond Attitude(const std::string& path, const TrajectoryRow& row,
+                            const PoseColumnLayout& layout, TrajectoryReadReport* report) {
+  if (!layout.HasQuaternion()) {
+    EulerRpy rpy;
+    rpy.roll = layout.rpy_to_rad * Number(path, row, layout, layout.rpy[0]);
+    rpy.pitch = layout.rpy_to_rad * Number(path, row, layout, layout.rpy[1]);
+    rpy.yaw = layout.rpy_to_rad * Number(path, row, layout, layout.rpy[2]);
+    return QuaternionFromEuler(rpy);
+  }
+  const Eigen::Quaterniond q(
+      Number(path, row, layout, layout.q_wxyz[0]), Number(path, row, layout, layout.q_wxyz[1]),
+      Number(path, row, layout, layout.q_wxyz[2]), Number(path, row, layout, layout.q_wxyz[3]));
+  const double norm_error = std::abs(q.norm() - 1.0);
+  if (!(norm_error <= kQuaternionNormTolerance))
+    throw InputError(path, row.line, layout.Name(layout.q_wxyz[0]),
+                     fmt::format("quaternion is not unit length (|q| = {:.6g}; accepted and "
+                                 "normalised within 1 +- {})",
+                                 q.norm(), kQuaternionNormTolerance));
+  if (norm_error > 1e-6) ++report->quaternions_normalised;
+  report->max_quaternion_norm_error = std::max(report->max_quaternion_norm_error, norm_error);
+  return q.normalized();
+}
+
+// Throws unless the row has as many fields as the layout needs (exactly, for TUM's 8 or 20),
+// naming the first missing or first extra column.
+void RequireFieldCount(const std::string& path, const TrajectoryRow& row,
+                       const PoseColumnLayout& layout) {
+  const size_t n = row.fields.size();
+  if (layout.exact_fields > 0 && n != layout.exact_fields)
+    throw InputError(
+        path, row.line, layout.Name(n < layout.exact_fields ? n : layout.exact_fields),
+        fmt::format("expected {} fields{}, found {}", layout.exact_fields,
+                    layout.exact_fields == 8 ? " (timestamp tx ty tz qx qy qz qw)" : "", n));
+  if (n < layout.min_fields)
+    throw InputError(path, row.line, layout.Name(n),
+                     fmt::format("expected {} fields, found {}", layout.min_fields, n));
 }
 
 // Three columns, each within +-max_abs (a sanity range of core/physical_limits.h).
@@ -56,6 +86,22 @@ Eigen::Vector3d Vector(const std::string& path, const TrajectoryRow& row,
   return v;
 }
 
+// "TUM", "EuRoC", ... for messages.
+std::string FormatDisplayName(TrajectoryFormat format) {
+  switch (format) {
+    case TrajectoryFormat::kTum:
+      return "TUM";
+    case TrajectoryFormat::kEuroc:
+      return "EuRoC";
+    case TrajectoryFormat::kAsl:
+      return "ASL";
+    case TrajectoryFormat::kKitti:
+      return "KITTI";
+    default:
+      return TrajectoryFormatName(format);
+  }
+}
+
 PoseColumnLayout ChooseLayout(const TrajectoryText& text, TrajectoryFormat format, bool forced) {
   const auto by_header = LayoutFromHeader(text);
   const size_t fields = text.rows.front().fields.size();
@@ -64,7 +110,7 @@ PoseColumnLayout ChooseLayout(const TrajectoryText& text, TrajectoryFormat forma
     case TrajectoryFormat::kTum:
       if (fields != 8 && fields != 20)
         throw InputError(text.path, text.rows.front().line,
-                         fields < 8 ? TumLayout(8).Name(fields) : "",
+                         TumLayout(8).Name(std::min<size_t>(fields, 8)),
                          fmt::format("expected 8 fields (timestamp tx ty tz qx qy qz qw), or 20 "
                                      "(ov_eval: with covariance), found {}",
                                      fields));
@@ -92,20 +138,33 @@ PoseColumnLayout ChooseLayout(const TrajectoryText& text, TrajectoryFormat forma
                    "internal: no layout for format " + TrajectoryFormatName(format));
 }
 
+// Stamps the layout takes for nanoseconds without a header stating it are refused when they look
+// like seconds (trajectory_stamps.h), before any other column is read: the wrong layout is the
+// reason, not the quaternion it would then take from the wrong columns. Rows whose stamp does not
+// parse are left to ParsePoseRows.
+void RequirePlausibleNanoseconds(const TrajectoryText& text, const PoseColumnLayout& layout) {
+  if (layout.unit != StampUnit::kNanoseconds || layout.unit_stated) return;
+  std::vector<TimeNs> stamps;
+  stamps.reserve(text.rows.size());
+  for (const TrajectoryRow& row : text.rows) {
+    TimeNs t_ns = 0;
+    if (static_cast<size_t>(layout.t) < row.fields.size() &&
+        ParseNanoseconds(row.fields[layout.t], &t_ns))
+      stamps.push_back(t_ns);
+  }
+  const std::string why = SecondsReadAsNanoseconds(stamps);
+  if (!why.empty())
+    throw InputError(text.path, text.rows.front().line, layout.Name(layout.t),
+                     "not read as " + layout.description + ": " + why);
+}
+
 std::vector<RowState> ParsePoseRows(const TrajectoryText& text, const PoseColumnLayout& layout,
                                     TrajectoryReadReport* report) {
+  RequirePlausibleNanoseconds(text, layout);
   std::vector<RowState> rows;
   rows.reserve(text.rows.size());
   for (const TrajectoryRow& row : text.rows) {
-    const size_t n = row.fields.size();
-    if (layout.exact_fields > 0 && n != layout.exact_fields)
-      throw InputError(
-          text.path, row.line, n < layout.exact_fields ? layout.Name(n) : "",
-          fmt::format("expected {} fields{}, found {}", layout.exact_fields,
-                      layout.exact_fields == 8 ? " (timestamp tx ty tz qx qy qz qw)" : "", n));
-    if (n < layout.min_fields)
-      throw InputError(text.path, row.line, layout.Name(n),
-                       fmt::format("expected {} fields, found {}", layout.min_fields, n));
+    RequireFieldCount(text.path, row, layout);
     RowState r;
     r.line = row.line;
     const std::string& stamp = row.fields[layout.t];
@@ -113,21 +172,10 @@ std::vector<RowState> ParsePoseRows(const TrajectoryText& text, const PoseColumn
                                                        : ParseNanoseconds(stamp, &r.state.t_ns);
     if (!ok)
       throw InputError(text.path, row.line, layout.Name(layout.t),
-                       DescribeBadStamp(stamp, layout.unit == StampUnit::kSeconds));
+                       DescribeBadStamp(stamp, layout.unit == StampUnit::kSeconds,
+                                        FormatDisplayName(layout.format)));
     r.state.T_W_B.p = Vector(text.path, row, layout, layout.p, limits::kMaxPosition_m, "m");
-    const Eigen::Quaterniond q(Number(text.path, row, layout, layout.q_wxyz[0]),
-                               Number(text.path, row, layout, layout.q_wxyz[1]),
-                               Number(text.path, row, layout, layout.q_wxyz[2]),
-                               Number(text.path, row, layout, layout.q_wxyz[3]));
-    const double norm_error = std::abs(q.norm() - 1.0);
-    if (!(norm_error <= kQuaternionNormTolerance))
-      throw InputError(text.path, row.line, layout.Name(layout.q_wxyz[0]),
-                       fmt::format("quaternion is not unit length (|q| = {:.6g}; accepted and "
-                                   "normalised within 1 +- {})",
-                                   q.norm(), kQuaternionNormTolerance));
-    if (norm_error > 1e-6) ++report->quaternions_normalised;
-    report->max_quaternion_norm_error = std::max(report->max_quaternion_norm_error, norm_error);
-    r.state.T_W_B.q = q.normalized();
+    r.state.T_W_B.q = Attitude(text.path, row, layout, report);
     if (layout.HasVelocity())
       r.state.v_W = Vector(text.path, row, layout, layout.v, limits::kMaxSpeed_m_s, "m/s");
     if (layout.HasBiases()) {
@@ -330,6 +378,16 @@ std::string DescribeRowFixes(const TrajectoryReadReport& report) {
         report.times_path.empty() ? report.path : report.times_path, report.first_duplicate_line);
   }
   return text;
+}
+
+std::string DescribeRowsKept(const TrajectoryReadReport& report, size_t poses) {
+  if (poses == report.rows) return "";
+  const size_t dropped = report.rows > poses ? report.rows - poses : 0;
+  const std::string why =
+      dropped == report.duplicates_dropped
+          ? fmt::format("{} with a repeated timestamp dropped, kept the first", dropped)
+          : fmt::format("{} dropped", dropped);
+  return fmt::format("{} of {} rows ({})", poses, report.rows, why);
 }
 
 }  // namespace mavloc

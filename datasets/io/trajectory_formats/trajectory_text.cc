@@ -1,19 +1,25 @@
 #include "datasets/io/trajectory_formats/trajectory_text.h"
 
 #include <cctype>
-#include <cerrno>
-#include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "core/errors.h"
+#include "core/number_text.h"
 #include "core/text.h"
 
 namespace mavloc {
 
-namespace {}  // namespace
+namespace {
+
+// Whether the text begins with a number ("1.5", "nan", "1.5x"), as a header word does not.
+bool StartsWithNumber(const std::string& text) {
+  const NumberTextStatus status = ParseDoubleText(text, NonFinite::kAllow).status;
+  return status != NumberTextStatus::kEmpty && status != NumberTextStatus::kNotANumber;
+}
+
+}  // namespace
 
 std::vector<std::string> SplitTrajectoryLine(const std::string& line, bool comma_separated) {
   std::vector<std::string> fields;
@@ -34,16 +40,6 @@ std::vector<std::string> SplitTrajectoryLine(const std::string& line, bool comma
     while (stream >> field) fields.push_back(field);
   }
   return fields;
-}
-
-bool ParseFiniteDouble(const std::string& text, double* value) {
-  if (text.empty()) return false;
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0' || errno == ERANGE || !std::isfinite(v)) return false;
-  *value = v;
-  return true;
 }
 
 TrajectoryText ReadTrajectoryText(const std::string& path) {
@@ -84,9 +80,7 @@ TrajectoryText ReadTrajectoryText(const std::string& path) {
       text.comma_separated = trimmed.find(',') != std::string::npos;
       std::vector<std::string> fields = SplitTrajectoryLine(trimmed, text.comma_separated);
       // "timestamp,x,y,z,..." without '#': a header, not data ("nan" and "inf" are numbers).
-      char* end = nullptr;
-      const bool numeric =
-          !fields.empty() && (std::strtod(fields[0].c_str(), &end), end != fields[0].c_str());
+      const bool numeric = !fields.empty() && StartsWithNumber(fields[0]);
       if (!fields.empty() && !fields[0].empty() && !numeric &&
           (std::isalpha(static_cast<unsigned char>(fields[0][0])) || fields[0][0] == '%')) {
         text.header_line = trimmed;

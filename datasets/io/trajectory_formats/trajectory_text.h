@@ -40,7 +40,4 @@ TrajectoryText ReadTrajectoryText(const std::string& path);
 // Splits one line (already without '\r') as described above.
 std::vector<std::string> SplitTrajectoryLine(const std::string& line, bool comma_separated);
 
-// Parses a whole field as a finite double (strtod, no trailing characters); false otherwise.
-bool ParseFiniteDouble(const std::string& text, double* value);
-
 }  // namespace mavloc

@@ -2,7 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstring>
+#include <vector>
+
+#include "core/input_limits.h"
 
 namespace mavloc::ulog {
 namespace {
@@ -21,9 +25,6 @@ constexpr PrimitiveName kPrimitives[] = {
     {"float", PrimitiveType::kFloat, 4},   {"double", PrimitiveType::kDouble, 8},
     {"bool", PrimitiveType::kBool, 1},     {"char", PrimitiveType::kChar, 1},
 };
-
-// Nested formats deeper than this are treated as a self-reference (PX4 nests 2-3 levels).
-constexpr int kMaxNesting = 16;
 
 std::string_view TrimFormatText(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -74,23 +75,131 @@ bool ParseField(std::string_view text, FormatField* field, std::string* error) {
   return true;
 }
 
+// What one format expands to.
+struct FormatSize {
+  uint64_t fields = 0;  // flattened fields; an element of an empty nested format counts one
+  uint64_t bytes = 0;
+  int height = 0;  // levels of nested formats below this one
+};
+
+// "a -> b -> a"
+std::string ChainText(const std::vector<std::string>& chain, const std::string& last) {
+  std::string text;
+  for (const std::string& name : chain) text += name + " -> ";
+  return text + last;
+}
+
+// Measures a format before anything is expanded, so that a format beyond the limits of
+// core/input_limits.h is refused before the work is done: each nested format is measured once
+// (memoized), the formats being measured are kept on a chain that names a cycle, and every field
+// visited is charged to the log's flattening work.
+class FormatMeter {
+  static constexpr int kMaxNesting = input_limits::kMaxUlogFormatNesting;
+
+ public:
+  FormatMeter(const std::map<std::string, MessageFormat>& formats, uint64_t* work_left,
+              std::string* error)
+      : formats_(formats), work_left_(work_left), error_(error) {}
+
+  FlattenStatus Measure(const std::string& name, FormatSize* size) { return Visit(name, 0, size); }
+
+ private:
+  FlattenStatus Visit(const std::string& name, int depth, FormatSize* size) {
+    if (const auto done = measured_.find(name); done != measured_.end()) {
+      *size = done->second;
+      return depth + size->height > kMaxNesting ? TooDeep(name) : FlattenStatus::kOk;
+    }
+    if (std::find(chain_.begin(), chain_.end(), name) != chain_.end()) {
+      *error_ = fmt::format("format '{}' nests itself ({})", name, ChainText(chain_, name));
+      return FlattenStatus::kBadDefinition;
+    }
+    if (depth > kMaxNesting) return TooDeep(name);
+    const auto it = formats_.find(name);
+    if (it == formats_.end()) {
+      *error_ = fmt::format("no format definition for type '{}'", name);
+      return FlattenStatus::kBadDefinition;
+    }
+    chain_.push_back(name);
+    FormatSize total;
+    for (const FormatField& field : it->second.fields) {
+      FormatSize element;
+      const FlattenStatus status = MeasureField(field, depth, &element);
+      if (status != FlattenStatus::kOk) return status;
+      const uint64_t count = field.array_size == 0 ? 1 : static_cast<uint64_t>(field.array_size);
+      total.fields += count * element.fields;
+      total.bytes += count * element.bytes;
+      total.height = std::max(total.height, element.height);
+      if (total.fields > input_limits::kMaxUlogFormatFields) {
+        return OverLimit(
+            fmt::format("format '{}' flattens to more than {} fields (an element of "
+                        "an empty nested format counts one; limit "
+                        "input_limits::kMaxUlogFormatFields)",
+                        name, input_limits::kMaxUlogFormatFields));
+      }
+      if (total.bytes > input_limits::kMaxUlogFormatBytes) {
+        return OverLimit(
+            fmt::format("format '{}' is larger than a ULog message can be (more "
+                        "than {} bytes; limit input_limits::kMaxUlogFormatBytes)",
+                        name, input_limits::kMaxUlogFormatBytes));
+      }
+    }
+    chain_.pop_back();
+    measured_[name] = total;
+    *size = total;
+    return FlattenStatus::kOk;
+  }
+
+  // One element of `field`: a primitive, or a nested format (at least one field; its height
+  // counts the level of `field` itself).
+  FlattenStatus MeasureField(const FormatField& field, int depth, FormatSize* element) {
+    if (*work_left_ == 0) return OverLog();
+    --*work_left_;
+    PrimitiveType type = PrimitiveType::kUint8;
+    if (ParsePrimitiveType(field.type, &type)) {
+      *element = {1, static_cast<uint64_t>(PrimitiveSize(type))};
+      return FlattenStatus::kOk;
+    }
+    const FlattenStatus status = Visit(field.type, depth + 1, element);
+    element->fields = std::max<uint64_t>(element->fields, 1);
+    element->height += 1;
+    return status;
+  }
+
+  FlattenStatus TooDeep(const std::string& name) {
+    return OverLimit(
+        fmt::format("format '{}' nests formats more than {} levels deep ({}; limit "
+                    "input_limits::kMaxUlogFormatNesting)",
+                    chain_.empty() ? name : chain_.front(), kMaxNesting, ChainText(chain_, name)));
+  }
+
+  FlattenStatus OverLimit(const std::string& message) {
+    *error_ = message;
+    return FlattenStatus::kOverLimit;
+  }
+
+  FlattenStatus OverLog() {
+    return OverLimit(
+        fmt::format("the log's formats need more than {} steps to flatten (limit "
+                    "input_limits::kMaxUlogFlattenWork)",
+                    input_limits::kMaxUlogFlattenWork));
+  }
+
+  const std::map<std::string, MessageFormat>& formats_;
+  uint64_t* work_left_;
+  std::string* error_;
+  std::map<std::string, FormatSize> measured_;
+  std::vector<std::string> chain_;
+};
+
+// Expands a measured format into its primitive fields (FormatMeter has checked that every type
+// exists, that nothing nests itself and that the expansion is within the limits).
 struct Flattener {
   const std::map<std::string, MessageFormat>& formats;
   FlatLayout* layout;
-  std::string* error;
   int offset = 0;
 
-  bool Add(const std::string& prefix, const std::string& format_name, int depth) {
-    if (depth > kMaxNesting) {
-      *error = fmt::format("format '{}' nests itself", format_name);
-      return false;
-    }
-    const auto it = formats.find(format_name);
-    if (it == formats.end()) {
-      *error = fmt::format("no format definition for type '{}'", format_name);
-      return false;
-    }
-    for (const FormatField& field : it->second.fields) {
+  void Add(const std::string& prefix, const std::string& format_name) {
+    for (const FormatField& field : formats.at(format_name).fields) {
       PrimitiveType type = PrimitiveType::kUint8;
       const bool primitive = ParsePrimitiveType(field.type, &type);
       const int count = field.array_size == 0 ? 1 : field.array_size;
@@ -101,16 +210,11 @@ struct Flattener {
         if (primitive) {
           layout->fields.push_back({name, type, offset});
           offset += PrimitiveSize(type);
-        } else if (!Add(fmt::format("{}.", name), field.type, depth + 1)) {
-          return false;
-        }
-        if (offset > 65535) {
-          *error = fmt::format("format '{}' is larger than a ULog message can be", format_name);
-          return false;
+        } else {
+          Add(fmt::format("{}.", name), field.type);
         }
       }
     }
-    return true;
   }
 };
 
@@ -163,11 +267,24 @@ const FlatField* FlatLayout::Find(std::string_view name) const {
   return nullptr;
 }
 
-bool FlattenFormat(const std::map<std::string, MessageFormat>& formats, const std::string& name,
-                   FlatLayout* layout, std::string* error) {
+FlattenStatus FlattenFormatWithin(const std::map<std::string, MessageFormat>& formats,
+                                  const std::string& name, uint64_t* work_left, FlatLayout* layout,
+                                  std::string* error) {
   *layout = FlatLayout();
-  Flattener flattener{formats, layout, error};
-  if (!flattener.Add("", name, 0)) return false;
+  FormatSize size;
+  const FlattenStatus status = FormatMeter(formats, work_left, error).Measure(name, &size);
+  if (status != FlattenStatus::kOk) return status;
+  if (size.fields > *work_left) {
+    *error = fmt::format(
+        "the log's formats need more than {} steps to flatten (limit "
+        "input_limits::kMaxUlogFlattenWork)",
+        input_limits::kMaxUlogFlattenWork);
+    return FlattenStatus::kOverLimit;
+  }
+  *work_left -= size.fields;
+  layout->fields.reserve(size.fields);
+  Flattener flattener{formats, layout};
+  flattener.Add("", name);
   layout->full_size = flattener.offset;
   // pyulog (core.py, _MessageAddLogged._parse_format) drops trailing padding: PX4's logger does
   // not write it, so the logged size ends at the last real field.
@@ -183,7 +300,13 @@ bool FlattenFormat(const std::map<std::string, MessageFormat>& formats, const st
   if (timestamp != nullptr && timestamp->type == PrimitiveType::kUint64) {
     layout->timestamp_offset = timestamp->offset;
   }
-  return true;
+  return FlattenStatus::kOk;
+}
+
+bool FlattenFormat(const std::map<std::string, MessageFormat>& formats, const std::string& name,
+                   FlatLayout* layout, std::string* error) {
+  uint64_t work_left = input_limits::kMaxUlogFlattenWork;
+  return FlattenFormatWithin(formats, name, &work_left, layout, error) == FlattenStatus::kOk;
 }
 
 uint64_t ReadUint64(const uint8_t* data) {

@@ -66,8 +66,23 @@ struct FlatLayout {
   const FlatField* Find(std::string_view name) const;
 };
 
-// Flattens format `name` using `formats` for nested types. Returns false with `error` naming the
-// missing type or the recursion when a format is unknown or nests itself.
+enum class FlattenStatus {
+  kOk,
+  kBadDefinition,  // a nested type without a format, or a format that nests itself
+  kOverLimit,      // beyond a limit of core/input_limits.h: nothing was expanded
+};
+
+// Flattens format `name` using `formats` for nested types. The format is measured first (each
+// nested format once) and refused before anything is expanded or allocated when it nests deeper
+// than input_limits::kMaxUlogFormatNesting, flattens to more than kMaxUlogFormatFields fields (an
+// element of an empty nested format counting one) or kMaxUlogFormatBytes bytes, or when the
+// fields measured and the fields flattened exceed `work_left`, the flattening work left for the
+// whole log (start it at input_limits::kMaxUlogFlattenWork; it is decreased by both). `error`
+// names the format and the limit, the missing type, or the cycle ("a -> b -> a").
+FlattenStatus FlattenFormatWithin(const std::map<std::string, MessageFormat>& formats,
+                                  const std::string& name, uint64_t* work_left, FlatLayout* layout,
+                                  std::string* error);
+// The same for one format on its own (a fresh kMaxUlogFlattenWork); false on any failure.
 bool FlattenFormat(const std::map<std::string, MessageFormat>& formats, const std::string& name,
                    FlatLayout* layout, std::string* error);
 

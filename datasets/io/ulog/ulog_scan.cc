@@ -9,6 +9,7 @@
 #include <set>
 
 #include "core/errors.h"
+#include "core/input_limits.h"
 #include "datasets/io/ulog/ulog_stream.h"
 
 namespace mavloc::ulog {
@@ -319,7 +320,13 @@ class Scanner {
     sub->name.assign(reinterpret_cast<const char*>(m.data + 3), m.size - 3);
     while (!sub->name.empty() && sub->name.back() == '\0') sub->name.pop_back();
     std::string error;
-    if (!FlattenFormat(formats_, sub->name, &sub->layout, &error)) {
+    const FlattenStatus status =
+        FlattenFormatWithin(formats_, sub->name, &flatten_work_left_, &sub->layout, &error);
+    // A format beyond the limits of core/input_limits.h is a crafted file, not a damaged log.
+    if (status == FlattenStatus::kOverLimit) {
+      Fail(m.offset, fmt::format("subscription to '{}': {}", sub->name, error));
+    }
+    if (status != FlattenStatus::kOk) {
       info_.notes.push_back(fmt::format("subscription to '{}' (byte offset {}) ignored: {}",
                                         sub->name, m.offset, error));
       active_[sub->msg_id] = -1;
@@ -417,6 +424,7 @@ class Scanner {
   UlogInfo info_;
   bool in_data_ = false;
   std::map<std::string, MessageFormat> formats_;
+  uint64_t flatten_work_left_ = input_limits::kMaxUlogFlattenWork;
   struct Entry {
     std::unique_ptr<Subscription> subscription;
     bool wanted = false;
