@@ -364,7 +364,8 @@ TrajectoryFormat DetectTrajectoryFormat(const TrajectoryText& text) {
     throw InputError(text.path, first.line, "",
                      fmt::format("cannot tell the format from {} whitespace-separated fields "
                                  "(TUM has 8 or, from ov_eval, 20; KITTI 12); no header names the "
-                                 "columns; force one with --format",
+                                 "columns; force one with --gt-format/--est-format (eval) or "
+                                 "--in-format (convert)",
                                  n));
   }
   if (DecimalStamp(first)) {
