@@ -21,9 +21,9 @@
 #include "evaluation/comparison.h"
 #include "evaluation/comparison_report.h"
 #include "evaluation/crlb/crlb_report.h"
-#include "evaluation/report_figures.h"
 #include "evaluation/report/report_folder.h"
 #include "evaluation/report/report_markdown.h"
+#include "evaluation/report_figures.h"
 #include "evaluation/report_writer.h"
 #include "evaluation/truth_checks.h"
 
@@ -56,7 +56,8 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
   command->add_option("--option", args->options,
                       "Estimator option estimator:key=value or key=value for all (repeatable)");
   command->add_option("--report", args->report, "Report folder (created)")->capture_default_str();
-  command->add_flag("--force", args->force, "Replace an existing --report folder (a mavloc report)");
+  command->add_flag("--force", args->force,
+                    "Replace an existing --report folder (a mavloc report)");
   command->add_option("--align", args->align, "ATE alignment: none, se3, sim3 or posyaw")
       ->check(CLI::IsMember({"none", "se3", "sim3", "posyaw"}))
       ->capture_default_str();
@@ -194,10 +195,10 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       for (const auto& entry : left_out) reasons += (reasons.empty() ? "" : "; ") + entry;
       for (const auto& e : evaluations)
         reasons += (reasons.empty() ? "" : "; ") + e.estimator + " (" + e.skipped_reason + ")";
-      throw InputError("no estimator applies to " +
-                       (args->dataset.empty() ? "scenario " + dataset.scenario
-                                              : "dataset " + args->dataset) +
-                       ": " + reasons);
+      throw InputError(
+          "no estimator applies to " +
+          (args->dataset.empty() ? "scenario " + dataset.scenario : "dataset " + args->dataset) +
+          ": " + reasons);
     }
 
     const std::string title = dataset.scenario.empty() ? dataset.name : dataset.scenario;

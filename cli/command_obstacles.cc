@@ -98,7 +98,8 @@ void RegisterObstacles(CLI::App& app, int* exit_code) {
   command->add_option("--dataset", args->dataset, "Dataset folder with cam0/cam1 images")
       ->required();
   command->add_option("--report", args->report, "Report folder (created)")->required();
-  command->add_flag("--force", args->force, "Replace an existing --report folder (a mavloc report)");
+  command->add_flag("--force", args->force,
+                    "Replace an existing --report folder (a mavloc report)");
   command
       ->add_option("--pose-source", args->pose_source,
                    "Vehicle poses for eq. (6): gt or an estimator name")

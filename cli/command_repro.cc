@@ -31,7 +31,8 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
       ->add_option("--report", args->report,
                    "Report folder: created (an existing one only with --force)")
       ->required();
-  command->add_flag("--force", args->force, "Replace an existing --report folder (a mavloc report)");
+  command->add_flag("--force", args->force,
+                    "Replace an existing --report folder (a mavloc report)");
   command->add_option("--set", args->settings, "Setting key=value (repeatable)");
   command
       ->add_option(

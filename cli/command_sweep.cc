@@ -244,7 +244,8 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
   auto merge_force = std::make_shared<bool>(false);
   merge->add_flag("--force", *merge_force, "Replace an existing --out folder (a mavloc report)");
   merge->callback([merge_inputs, merge_out, merge_force, exit_code] {
-    StagedFolder report(*merge_out, FolderKind::kReport, *merge_force);  // checked first, written whole
+    StagedFolder report(*merge_out, FolderKind::kReport,
+                        *merge_force);  // checked first, written whole
     const MergedSweep merged = MergePartials(*merge_inputs);
     WriteSweepReport(report.path(),
                      BuildSweepReport(merged.grid, merged.fingerprint, merged.units));

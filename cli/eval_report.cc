@@ -359,7 +359,8 @@ std::string EvalLatex(const EvalReport& report) {
   const Table table = BuildTable(report);
   // One 'r' column per metric; plain \\hline rules (no package needed).
   std::string tex =
-      "% mavloc eval: mean $\\pm$ sample std over runs (protocol in report.md)\n\\begin{tabular}{lr";
+      "% mavloc eval: mean $\\pm$ sample std over runs (protocol in "
+      "report.md)\n\\begin{tabular}{lr";
   for (size_t k = 0; k < table.titles.size(); ++k) tex += "r";
   tex += "}\n\\hline\nestimate & runs";
   for (const auto& t : table.titles) tex += " & " + LatexEscape(t);
@@ -529,7 +530,8 @@ EstimatorResult ResultOfRun(const EvalEstimate& estimate, const EvalRun& run) {
   r.metrics["ate_translation"] = {"m", std::nullopt, ev.ape_translation_m};
   r.metrics["ate_rotation"] = {"rad", std::nullopt, DegreesToRadians(ev.ape_rotation_deg)};
   for (const auto& rpe : ev.rpe) {
-    const std::string key = fmt::format("rpe_{:g}_{}", rpe.delta.delta, DeltaUnitName(rpe.delta.unit));
+    const std::string key =
+        fmt::format("rpe_{:g}_{}", rpe.delta.delta, DeltaUnitName(rpe.delta.unit));
     r.metrics[key + "_translation"] = {"m", std::nullopt, rpe.translation_m};
     r.metrics[key + "_rotation"] = {"rad", std::nullopt, DegreesToRadians(rpe.rotation_deg)};
   }

@@ -9,10 +9,10 @@
 #include <exception>
 #include <string>
 
-#include "evaluation/report/provenance.h"
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "evaluation/report/provenance.h"
 
 int main(int argc, char** argv) {
   // SIGINT/SIGTERM: temporary outputs removed, exit 130/143 (core/interrupt.h). First, before

@@ -47,8 +47,8 @@ std::string Describe(const fs::path& folder) {
   if (IsSlurmResults(folder)) return "the results of a `mavloc sweep --slurm`";
   if (IsMavlocDataset(folder)) return "a mavloc dataset";
   if (IsReport(folder)) {
-    const auto json = nlohmann::json::parse(ReadWholeFile((folder / "report.json").string()),
-                                            nullptr, false);
+    const auto json =
+        nlohmann::json::parse(ReadWholeFile((folder / "report.json").string()), nullptr, false);
     if (json.is_object() && json.contains("report_kind") && json["report_kind"].is_string())
       return "a `mavloc " + json["report_kind"].get<std::string>() + "` report";
     return "a mavloc report";

@@ -82,8 +82,7 @@ ScriptRun RunScript(const std::string& python, const std::string& report_dir,
       return run;
     }
   }
-  const ProgramRun program =
-      RunProgram({python, script, report_dir, "--kind", kind});
+  const ProgramRun program = RunProgram({python, script, report_dir, "--kind", kind});
   run.exit_code = program.started ? program.exit_code : 127;
   run.out = program.out;
   run.err = program.started ? program.err : program.error;

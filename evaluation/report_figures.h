@@ -15,8 +15,8 @@
 namespace mavloc {
 
 // What the folder holds, as its report.json (or eval.json) declares in "report_kind": eval
-// (`mavloc eval --out DIR`), compare, repro, sweep, obstacles or matrix. A folder without such a file is
-// no report, whatever other files it holds.
+// (`mavloc eval --out DIR`), compare, repro, sweep, obstacles or matrix. A folder without such a
+// file is no report, whatever other files it holds.
 enum class ReportKind { kUnknown, kEval, kCompare, kRepro, kSweep, kObstacles, kMatrix };
 
 // "eval", "compare", "repro", "sweep", "obstacles", "matrix", "unknown"

@@ -289,8 +289,8 @@ AlignmentConditionDiagnostic DiagnoseAlignmentCondition(const std::vector<Eigen:
   scatter /= static_cast<double>(p_gt.size());
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
   const Eigen::Vector3d variances = solver.eigenvalues().cwiseMax(0.0);  // ascending
-  d.extents_m = Eigen::Vector3d(std::sqrt(variances[2]), std::sqrt(variances[1]),
-                                std::sqrt(variances[0]));
+  d.extents_m =
+      Eigen::Vector3d(std::sqrt(variances[2]), std::sqrt(variances[1]), std::sqrt(variances[0]));
   d.detected = d.extents_m[needs_two ? 1 : 0] < options.min_alignment_extent_m;
   return d;
 }

@@ -47,7 +47,7 @@ struct DiagnosticOptions {
   double max_time_offset_search_s = 1.0;  // the shift search window +-
   size_t min_pairs = 10;
   double min_alignment_extent_m = 0.05;  // RMS extent the alignment's rotation needs
-  double min_pair_fraction = 0.5;  // pairs / estimate poses below this is reported
+  double min_pair_fraction = 0.5;        // pairs / estimate poses below this is reported
 };
 
 struct RotationOffsetDiagnostic {

@@ -133,8 +133,8 @@ std::optional<TrajectoryEvaluation> EvaluateTrajectory(const std::vector<Stamped
     S = AlignPoints(p_est, p_gt, protocol.alignment);
     if (protocol.alignment != AlignmentMode::kNone)
       out.diagnostics.alignment_condition = DiagnoseAlignmentCondition(
-          p_gt, AlignmentModeName(protocol.alignment),
-          protocol.alignment != AlignmentMode::kPosYaw, protocol.diagnostics);
+          p_gt, AlignmentModeName(protocol.alignment), protocol.alignment != AlignmentMode::kPosYaw,
+          protocol.diagnostics);
   }
   if (!S) {
     SetWhy(why, fmt::format("cannot align with {} on {} pairs: too few, or the positions are "

@@ -14,7 +14,6 @@
 #include "core/physical_limits.h"
 
 #include "solver/estimator.h"
-#include "solver/imu_gap_guard.h"
 #include "solver/estimators/gravity_ekf_estimator.h"
 #include "solver/estimators/imu_dead_reckoning.h"
 #include "solver/estimators/laser_ekf_estimator.h"
@@ -26,6 +25,7 @@
 #include "solver/estimators/three_point_estimator.h"
 #include "solver/estimators/two_point_estimator.h"
 #include "solver/estimators/upright_2p_estimator.h"
+#include "solver/imu_gap_guard.h"
 
 namespace mavloc {
 
@@ -138,8 +138,8 @@ template <typename T>
 EstimatorEntry ImuEntry(std::string name, std::string description, std::set<std::string> options,
                         std::vector<std::string> prefixes = {}) {
   options.insert(kImuGapsOption);
-  EstimatorEntry entry = Entry<T>(std::move(name), std::move(description), std::move(options),
-                                  std::move(prefixes));
+  EstimatorEntry entry =
+      Entry<T>(std::move(name), std::move(description), std::move(options), std::move(prefixes));
   entry.create = [create = entry.create](const EstimatorOptions& given) {
     return std::unique_ptr<Estimator>(
         new ImuGapGuard([create, given] { return create(given); }, given));
@@ -172,15 +172,15 @@ const std::set<std::string> kUpright2p = {"threshold_px", "ransac", "max_iterati
 
 const std::vector<EstimatorEntry>& EstimatorRegistry() {
   static const std::vector<EstimatorEntry> kEntries = {
-      ImuEntry<ImuDeadReckoning>("imu-dead-reckoning",
-                              "IMU strapdown integration (RK4) from the true initial state; drifts",
-                              {"rate_hz"}),
+      ImuEntry<ImuDeadReckoning>(
+          "imu-dead-reckoning",
+          "IMU strapdown integration (RK4) from the true initial state; drifts", {"rate_hz"}),
       ImuEntry<GravityEkfEstimator>("gravity-ekf",
-                                 "three-point paper IV: roll, pitch from the IMU (gravity EKF)",
-                                 kGravityEkf),
+                                    "three-point paper IV: roll, pitch from the IMU (gravity EKF)",
+                                    kGravityEkf),
       ImuEntry<TwoPointEstimator>("two-point",
-                               "three-point paper IV-A: pose from IMU roll/pitch, 2 bearings, D",
-                               Keys({kGravityEkf, {"D"}})),
+                                  "three-point paper IV-A: pose from IMU roll/pitch, 2 bearings, D",
+                                  Keys({kGravityEkf, {"D"}})),
       ImuEntry<ThreePointEstimator>(
           "three-point", "three-point paper IV-B/C: roll/pitch refined by triangle angles",
           Keys({kGravityEkf,
@@ -189,9 +189,9 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
       Entry<PnpEstimator>("pnp",
                           "PIXHAWK 3.1/7.2 baseline: vision-only pose from all marker corners",
                           Keys({kBoardInit, {"image_delay_ms"}})),
-      ImuEntry<Upright2pEstimator>("upright-2p",
-                                "PIXHAWK 3.2: IMU roll/pitch + known-vertical 2-point RANSAC + LS",
-                                Keys({kUpright2p, kRollPitchSource, kGravityEkf, kBoardInit})),
+      ImuEntry<Upright2pEstimator>(
+          "upright-2p", "PIXHAWK 3.2: IMU roll/pitch + known-vertical 2-point RANSAC + LS",
+          Keys({kUpright2p, kRollPitchSource, kGravityEkf, kBoardInit})),
       ImuEntry<PixhawkKfEstimator>(
           "pixhawk-kf", "PIXHAWK 3.3/5.1: outlier rejection + 4 x 1-D CV Kalman filters",
           Keys(
@@ -217,37 +217,38 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
                             "attitude_var",   "compensate_delay", "gate_chi2",      "delay_s",
                             "init_pos_sigma", "init_vel_sigma",   "init_att_sigma", "init_ba_sigma",
                             "init_bg_sigma",  "init_seed",        "init_p0_scale",  "rate_hz"}})),
-      ImuEntry<SmootherEstimator>("smoother",
-                               "Ceres batch smoother: Forster preintegration + visual residuals, "
-                               "seeded by the closed-form/PnP estimators",
-                               {"accel_bias_prior_m_s2",
-                                "bearing_sigma_deg",
-                                "calibration_covariance",
-                                "cameras",
-                                "covariance",
-                                "estimate_D",
-                                "estimate_extrinsics",
-                                "estimate_time_offset",
-                                "extrinsics_prior_deg",
-                                "extrinsics_prior_m",
-                                "graduated",
-                                "gravity_window_s",
-                                "grow_window_s",
-                                "gyro_bias_prior_deg_s",
-                                "keyframe_stride",
-                                "landmarks",
-                                "laser_sigma_deg",
-                                "loss",
-                                "loss_scale",
-                                "max_iterations",
-                                "max_time_offset_ms",
-                                "pixel_sigma_px",
-                                "relinearize",
-                                "seed",
-                                "threads",
-                                "time_offset_init_ms",
-                                "verbose"},
-                               {"seed."}),
+      ImuEntry<SmootherEstimator>(
+          "smoother",
+          "Ceres batch smoother: Forster preintegration + visual residuals, "
+          "seeded by the closed-form/PnP estimators",
+          {"accel_bias_prior_m_s2",
+           "bearing_sigma_deg",
+           "calibration_covariance",
+           "cameras",
+           "covariance",
+           "estimate_D",
+           "estimate_extrinsics",
+           "estimate_time_offset",
+           "extrinsics_prior_deg",
+           "extrinsics_prior_m",
+           "graduated",
+           "gravity_window_s",
+           "grow_window_s",
+           "gyro_bias_prior_deg_s",
+           "keyframe_stride",
+           "landmarks",
+           "laser_sigma_deg",
+           "loss",
+           "loss_scale",
+           "max_iterations",
+           "max_time_offset_ms",
+           "pixel_sigma_px",
+           "relinearize",
+           "seed",
+           "threads",
+           "time_offset_init_ms",
+           "verbose"},
+          {"seed."}),
   };
   return kEntries;
 }

@@ -58,17 +58,18 @@ std::optional<double> GetDoubleSettingIfNumeric(const std::map<std::string, std:
 }
 
 // The magnitude of a setting against the range of its unit (ScenarioSettingRanges): a value the
-// simulator would turn into data that no reader accepts (a pixel noise of 1e308 px) is refused here,
-// naming the setting, before anything is generated.
+// simulator would turn into data that no reader accepts (a pixel noise of 1e308 px) is refused
+// here, naming the setting, before anything is generated.
 void CheckSettingMagnitude(const std::string& key, const std::string& text,
                            std::optional<double> value) {
   if (!value) return;
   for (const auto& range : ScenarioSettingRanges()) {
     if (!EndsWith(key, range.suffix)) continue;
     if (!(*value >= range.lo && *value <= range.hi))
-      throw InputError(fmt::format("--set {}={}: outside [{:g}, {:g}] {}, the simulator's limits "
-                                   "for a setting in {} (datasets/scenarios/scenario.h)",
-                                   key, text, range.lo, range.hi, range.unit, range.unit));
+      throw InputError(
+          fmt::format("--set {}={}: outside [{:g}, {:g}] {}, the simulator's limits "
+                      "for a setting in {} (datasets/scenarios/scenario.h)",
+                      key, text, range.lo, range.hi, range.unit, range.unit));
     return;
   }
 }

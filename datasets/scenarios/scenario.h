@@ -42,16 +42,11 @@ struct ScenarioSettingRange {
 inline const std::vector<ScenarioSettingRange>& ScenarioSettingRanges() {
   static const std::vector<ScenarioSettingRange> kRanges = {
       {"_deg_s", -5000.0, 5000.0, "deg/s"},  // below 100 rad/s, the IMU reader's limit
-      {"_deg", -360.0, 360.0, "deg"},
-      {"_px", 0.0, 10000.0, "px"},
-      {"_m_s2", -200.0, 200.0, "m/s^2"},
-      {"_m_s", -1000.0, 1000.0, "m/s"},
-      {"_ms", -60000.0, 60000.0, "ms"},
-      {"_m", -10000.0, 10000.0, "m"},
-      {"_offset_s", -60.0, 60.0, "s"},
-      {"_s", 0.0, 3600.0, "s"},
-      {"_fraction", 0.0, 1.0, ""},
-      {"_grey", 0.0, 255.0, "grey levels"},
+      {"_deg", -360.0, 360.0, "deg"},       {"_px", 0.0, 10000.0, "px"},
+      {"_m_s2", -200.0, 200.0, "m/s^2"},    {"_m_s", -1000.0, 1000.0, "m/s"},
+      {"_ms", -60000.0, 60000.0, "ms"},     {"_m", -10000.0, 10000.0, "m"},
+      {"_offset_s", -60.0, 60.0, "s"},      {"_s", 0.0, 3600.0, "s"},
+      {"_fraction", 0.0, 1.0, ""},          {"_grey", 0.0, 255.0, "grey levels"},
   };
   return kRanges;
 }

@@ -87,9 +87,9 @@ size_t GridUnitCount(const std::string& results_dir) {
 std::string RequireJobId(const nlohmann::json& value, const std::string& path,
                          const std::string& field) {
   if (!value.is_string() || !IsSlurmJobId(value.get<std::string>()))
-    throw InputError(path, 0, field,
-                     "not a Slurm job id (a whole number of at most 18 digits): " +
-                         Excerpt(value.dump()));
+    throw InputError(
+        path, 0, field,
+        "not a Slurm job id (a whole number of at most 18 digits): " + Excerpt(value.dump()));
   return value.get<std::string>();
 }
 
@@ -161,9 +161,8 @@ nlohmann::json StateToJson(const SlurmState& state) {
   for (const auto& s : state.submissions)
     submissions.push_back(
         {{"array_job", s.array_job}, {"merge_job", s.merge_job}, {"tasks", s.tasks}});
-  return {{"shards", state.shards},
-          {"fingerprint", state.fingerprint},
-          {"submissions", submissions}};
+  return {
+      {"shards", state.shards}, {"fingerprint", state.fingerprint}, {"submissions", submissions}};
 }
 
 std::string TaskList(const std::vector<int>& tasks) {

@@ -190,7 +190,8 @@ std::map<std::string, std::string> BuildSweepReport(const SweepGrid& grid,
   report.provenance.runs = static_cast<int>(units.size());
   const std::string json_text = ReportJsonText(report);
   report.provenance = WithInvocation(report.provenance);
-  return {{"report.md", RenderReportMarkdown(report)}, {"report.json", json_text}, {"runs.csv", csv}};
+  return {
+      {"report.md", RenderReportMarkdown(report)}, {"report.json", json_text}, {"runs.csv", csv}};
 }
 
 void WriteSweepReport(const std::string& folder, const std::map<std::string, std::string>& files) {

@@ -1,7 +1,7 @@
 // `mavloc eval` on several estimates: two estimate files in different
 // formats plus one folder of runs, the report folder and its file contract (the data files the
-// figure writer reads), the protocol in report.json / report.md, KITTI files associated by index, and
-// the exit code 2 with nothing written for bad option values and bad files.
+// figure writer reads), the protocol in report.json / report.md, KITTI files associated by index,
+// and the exit code 2 with nothing written for bad option values and bad files.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>

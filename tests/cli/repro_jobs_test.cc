@@ -1,7 +1,7 @@
 // `mavloc repro smoother|three-point|laser|pixhawk|apriltag --jobs N` run on the sweep machinery
-// (evaluation/sweep/): N workers give the numbers of one process, because every run's result goes through
-// the same JSON text either way; only the wall-clock fields differ. A reproduction that has no
-// units (euroc-imu-april: one run on one real log) refuses --jobs > 1.
+// (evaluation/sweep/): N workers give the numbers of one process, because every run's result goes
+// through the same JSON text either way; only the wall-clock fields differ. A reproduction that has
+// no units (euroc-imu-april: one run on one real log) refuses --jobs > 1.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -38,8 +38,7 @@ nlohmann::json WithoutTimes(const nlohmann::json& json) {
   nlohmann::json out = nlohmann::json::object();
   for (const auto& [key, value] : json.items()) {
     if (key.find("runtime") != std::string::npos || key.find("ms_per_frame") != std::string::npos ||
-        key == "elapsed_s" || key == "jobs" || key == "cramer_rao_compute_s" ||
-        key == "command")
+        key == "elapsed_s" || key == "jobs" || key == "cramer_rao_compute_s" || key == "command")
       continue;
     out[key] = WithoutTimes(value);
   }
@@ -60,8 +59,7 @@ TwoRuns RunSerialAndParallel(const std::string& command, const std::string& dir)
     EXPECT_EQ(r.exit_code, 0) << r.output;
     if (r.exit_code != 0) return {};
     // The reproduction's own layout is the report's details.
-    const auto report =
-        nlohmann::json::parse(Read(dir + "/" + folder + "/report.json"))["details"];
+    const auto report = nlohmann::json::parse(Read(dir + "/" + folder + "/report.json"))["details"];
     EXPECT_EQ(report["jobs"], jobs);
     (jobs == 1 ? runs.serial : runs.parallel) = report;
   }
