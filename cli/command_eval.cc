@@ -18,13 +18,13 @@
 #include <set>
 
 #include "cli/commands.h"
-#include "cli/eval_report.h"
 #include "cli/option_checks.h"
 #include "cli/output_folder.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "datasets/io/log_reader.h"
 #include "datasets/io/trajectory_formats/trajectory_format.h"
+#include "evaluation/eval/eval_report.h"
 #include "evaluation/report/report_folder.h"
 #include "evaluation/report_figures.h"
 #include "evaluation/trajectory_evaluation.h"
@@ -182,76 +182,6 @@ LoadedTrajectory ReadEvalTrajectory(const std::string& path, const TrajectoryRea
   AddRowFixes(loaded.report, notes);
   notes->insert(notes->end(), loaded.report.log_notes.begin(), loaded.report.log_notes.end());
   return loaded;
-}
-
-std::vector<StampedPose> AlignedEstimate(const std::vector<StampedPose>& estimate,
-                                         const TrajectoryEvaluation& e, double time_offset_s) {
-  std::vector<StampedPose> out;
-  out.reserve(estimate.size());
-  const Eigen::Quaterniond q_align(e.alignment.R);
-  for (const auto& pose : estimate) {
-    StampedPose aligned;
-    aligned.t_ns = pose.t_ns + SecondsToNs(time_offset_s);
-    aligned.T_W_B.p = e.alignment.Apply(pose.T_W_B.p);
-    aligned.T_W_B.q = (q_align * pose.T_W_B.q).normalized();
-    out.push_back(aligned);
-  }
-  return out;
-}
-
-std::string Seconds(TimeNs t_ns) { return fmt::format("{:.3f}", NsToSeconds(t_ns)); }
-
-// Evaluates one run; throws InputError naming the estimate file when nothing can be computed (the
-// ground truth was checked to have two poses), with the rows its reader dropped, if any.
-EvalRun EvaluateRun(const std::string& file, const LoadedTrajectory& estimate,
-                    const LoadedTrajectory& truth, const EvaluationProtocol& protocol,
-                    const std::string& truth_path) {
-  EvalRun run;
-  run.file = file;
-  run.input = estimate.report;
-  EvaluationProtocol p = protocol;
-  if (!estimate.report.has_stamps || !truth.report.has_stamps) {
-    // evo_ape/evo_rpe on KITTI pose files: no stamps, the i-th poses are compared.
-    if (estimate.report.has_stamps != truth.report.has_stamps)
-      throw InputError(file, 0, "",
-                       fmt::format("{} has no stamps (KITTI without a times file) and {} has: give "
-                                   "--gt-times/--est-times, or KITTI files for both (then "
-                                   "associated by index, as evo does)",
-                                   estimate.report.has_stamps ? truth_path : file,
-                                   estimate.report.has_stamps ? file : truth_path));
-    if (estimate.states.size() != truth.states.size())
-      throw InputError(file, 0, "",
-                       fmt::format("KITTI files without times are associated by index (as evo "
-                                   "does), which needs as many poses as the ground truth: {} here, "
-                                   "{} in {}",
-                                   estimate.states.size(), truth.states.size(), truth_path));
-    run.by_index = true;
-    p.association = AssociationMode::kNearest;
-    p.max_dt_s = 0.01;
-    p.time_offset_s = 0.0;
-  }
-  const std::vector<StampedPose> est = estimate.Poses();
-  const std::vector<StampedPose> gt = truth.Poses();
-  std::string why;
-  TrajectoryDiagnostics diagnostics;
-  auto evaluation = EvaluateTrajectory(est, gt, p, &why, &diagnostics);
-  if (!evaluation) {
-    const PairCountDiagnostic& d = diagnostics.pair_count;
-    if (d.pairs == 0)
-      throw InputError(
-          file, 0, "",
-          fmt::format("no estimate stamp overlaps the ground truth '{}' within {:g} s "
-                      "(estimate {} .. {} s, ground truth {} .. {} s, time offset "
-                      "{:g} s)",
-                      truth_path, p.max_dt_s, Seconds(est.front().t_ns), Seconds(est.back().t_ns),
-                      Seconds(gt.front().t_ns), Seconds(gt.back().t_ns), p.time_offset_s));
-    const std::string fixes = DescribeRowFixes(estimate.report);
-    throw InputError(file, 0, "",
-                     "cannot evaluate: " + why + (fixes.empty() ? "" : " (note: " + fixes + ")"));
-  }
-  run.evaluation = std::move(*evaluation);
-  run.aligned_estimate = AlignedEstimate(est, run.evaluation, p.time_offset_s);
-  return run;
 }
 
 void Run(const Args& a) {

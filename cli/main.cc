@@ -13,6 +13,7 @@
 #include "core/errors.h"
 #include "core/interrupt.h"
 #include "evaluation/report/provenance.h"
+#include "evaluation/repro/repro.h"
 
 int main(int argc, char** argv) {
   // SIGINT/SIGTERM: temporary outputs removed, exit 130/143 (core/interrupt.h). First, before
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
   app.set_help_all_flag("--help-all", "Print help for every command");
   int exit_code = 0;
   mavloc::RecordInvocation(argc, argv);  // the provenance of every report
+  mavloc::RegisterReproUnitKinds();      // what `repro --jobs` and sweep workers run
   mavloc::cli::RegisterList(app, &exit_code);
   mavloc::cli::RegisterSimulate(app, &exit_code);
   mavloc::cli::RegisterRun(app, &exit_code);
@@ -48,6 +50,7 @@ int main(int argc, char** argv) {
   mavloc::cli::RegisterLog(app, &exit_code);
   mavloc::cli::RegisterSweep(app, &exit_code);
   mavloc::cli::RegisterMatrix(app, &exit_code);
+  mavloc::cli::RegisterImuNoise(app, &exit_code);
   // An unknown first word is named in the message (CLI11 would only say a command is required).
   const auto subcommands = app.get_subcommands({});
   const bool known_command =

@@ -50,6 +50,9 @@ struct Estimate {
   // Measurements the estimator left out while the frame still got a pose (a tag gated out by a
   // filter, a frame whose attitude disagrees with the IMU), counted by reason.
   std::map<std::string, int> rejections;
+  // Events a reader of the report should see, one line each, with their time (a filter reset
+  // after lost lock, ...).
+  std::vector<std::string> events;
 
   void CountFailure(const std::string& reason) { ++failures[reason]; }
   void CountRejection(const std::string& reason, int count = 1) { rejections[reason] += count; }

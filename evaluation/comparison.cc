@@ -88,6 +88,7 @@ EstimatorEvaluation EvaluateEstimate(const std::string& estimator_name, Estimate
   evaluation.estimator = estimator_name;
   evaluation.ran = true;
   evaluation.estimate = std::move(estimate);
+  evaluation.warnings = evaluation.estimate.events;
   evaluation.reprojection = ComputeTagReprojection(dataset, evaluation.estimate);
   const QuantityTable& q = evaluation.estimate.quantities;
   if (options.reference) {
@@ -220,6 +221,7 @@ nlohmann::json EvaluationToJson(const EstimatorEvaluation& evaluation) {
   }
   j["runtime_s"] = evaluation.runtime_s;
   if (!evaluation.estimate.failures.empty()) j["failures"] = evaluation.estimate.failures;
+  if (!evaluation.warnings.empty()) j["warnings"] = evaluation.warnings;
   return j;
 }
 

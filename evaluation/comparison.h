@@ -33,6 +33,15 @@ struct EvaluationOptions {
   const ComparisonReference* reference = nullptr;
 };
 
+// The ATE of a comparison, taken from the trajectory-error engine's result (rotation in rad).
+struct AteResult {
+  AlignmentMode align = AlignmentMode::kNone;
+  Similarity alignment;
+  ErrorStatistics translation_m;
+  ErrorStatistics rotation_rad;
+  std::vector<double> translation_errors_m;  // per pair, in pair order
+};
+
 struct EstimatorEvaluation {
   std::string estimator;
   bool ran = false;

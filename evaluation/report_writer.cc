@@ -32,6 +32,7 @@ Report ReportFromFiles(const ReportFiles& files) {
   if (!body.empty()) report.sections.push_back({"", body});
   report.details = files.json.is_object() ? files.json : nlohmann::json::object();
   report.files = files.extra;
+  report.protocol = files.protocol;
   return report;
 }
 

@@ -5,6 +5,7 @@
 
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,8 @@ struct ReportFiles {
   std::string markdown;                      // report.md
   nlohmann::json json;                       // report.json
   std::map<std::string, std::string> extra;  // file name -> contents (e.g. "errors.csv")
+  // The trajectory or quantity comparison protocol the producer used, stated in the report.
+  std::optional<ReportProtocol> protocol;
 };
 
 // A producer's Markdown and JSON as a Report (evaluation/report/report.h): the title from the

@@ -1,10 +1,7 @@
-// Trajectory error metrics on associated pose pairs (Sturm et al., IROS 2012; Zhang & Scaramuzza,
-// IROS 2018):
-// - ATE: after alignment S, e_i = || p_gt,i - S(p_est,i) ||; statistics over i; rotation ATE as
-//   the angle of R_gt,i^T R R_est,i.
-// - RPE over a window: for pairs (i, j) separated by delta (distance travelled along the ground
-//   truth, or time), the error of the relative motion E = (T_gt,i^-1 T_gt,j)^-1 (T_est,i^-1
-//   T_est,j): translation |t(E)| and rotation angle(R(E)).
+// The error statistics and the APE/RPE building blocks of the one trajectory-error engine
+// (trajectory_evaluation.h), as evo computes them (Sturm et al., IROS 2012; Zhang & Scaramuzza,
+// IROS 2018): the pose relations of a relative transform E, the RPE pair selection, and the RPE
+// over the selected pairs E = (T_gt,i^-1 T_gt,j)^-1 (T_est,i^-1 T_est,j).
 #pragma once
 
 #include <optional>
@@ -30,30 +27,6 @@ struct ErrorStatistics {
 
 // Statistics of a set of non-negative errors (all zero for an empty set, with count 0).
 ErrorStatistics ComputeStatistics(const std::vector<double>& errors);
-
-struct AteResult {
-  AlignmentMode align = AlignmentMode::kNone;
-  Similarity alignment;
-  ErrorStatistics translation_m;
-  ErrorStatistics rotation_rad;
-  std::vector<double> translation_errors_m;  // per pair, in pair order
-};
-
-// nullopt when alignment is impossible (too few pairs or degenerate).
-std::optional<AteResult> ComputeAte(const std::vector<PosePair>& pairs, AlignmentMode align);
-
-enum class RpeWindow { kDistance, kTime };
-
-struct RpeResult {
-  RpeWindow window = RpeWindow::kDistance;
-  double delta = 0.0;  // metres or seconds
-  ErrorStatistics translation_m;
-  ErrorStatistics rotation_rad;
-};
-
-// nullopt when no pair is separated by delta.
-std::optional<RpeResult> ComputeRpe(const std::vector<PosePair>& pairs, RpeWindow window,
-                                    double delta);
 
 // ---- evo's APE/RPE (evo/core/metrics.py), used by trajectory_evaluation.h -----------------------
 

@@ -68,6 +68,11 @@ const std::map<std::string, OptionRange>& OptionRanges() {
       {"normal_random_walk", {0.0, kUnbounded, false, ""}},
       {"gate_sigmas", {0.0, kUnbounded, false, ""}},
       {"gate_chi2", {0.0, kUnbounded, false, ""}},
+      {"reacquire_pos_sigma", {0.0, kUnbounded, true, "m"}},
+      {"ransac_threshold_px", {0.0, limits::kMaxPixelCoordinate, true, "px"}},
+      {"min_ambiguity_ratio", {0.0, kUnbounded, false, ""}},
+      {"reacquire_vel_sigma", {0.0, kUnbounded, true, "m/s"}},
+      {"reacquire_att_sigma", {0.0, kUnbounded, true, "rad"}},
       {"position_sigma_m", {0.0, kUnbounded, false, "m"}},
       {"yaw_sigma_deg", {0.0, kUnbounded, false, "deg"}},
       {"position_accel_density", {0.0, kUnbounded, false, "m^2/s^3"}},
@@ -160,6 +165,8 @@ const std::set<std::string> kGravityEkf = {"gyro_noise_density", "accel_noise_de
                                            "gyro_bias_sigma"};
 // Board-map initialisation (ParseBoardInitOptions, solver/board/board_world.cc).
 const std::set<std::string> kBoardInit = {"gravity_init_s", "gravity_min_tags"};
+const std::set<std::string> kCornerRansac = {"ransac", "ransac_threshold_px", "ransac_min_tags",
+                                             "single_tag", "min_ambiguity_ratio"};
 // Roll/pitch source (ParseRollPitchSourceOptions, solver/pixhawk/roll_pitch_source.cc).
 const std::set<std::string> kRollPitchSource = {"attitude", "attitude_error_deg",
                                                 "attitude_error_tau_s", "attitude_error_seed",
@@ -186,9 +193,9 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
           Keys({kGravityEkf,
                 {"D", "bearing_sigma_deg", "gamma1_deg", "gamma2_deg", "max_correction_deg",
                  "min_filter_updates", "true_angles"}})),
-      Entry<PnpEstimator>("pnp",
-                          "PIXHAWK 3.1/7.2 baseline: vision-only pose from all marker corners",
-                          Keys({kBoardInit, {"image_delay_ms"}})),
+      Entry<PnpEstimator>(
+          "pnp", "PIXHAWK 3.1/7.2 baseline: vision-only pose from marker corners (+ RANSAC)",
+          Keys({kBoardInit, kCornerRansac, {"image_delay_ms"}})),
       ImuEntry<Upright2pEstimator>(
           "upright-2p", "PIXHAWK 3.2: IMU roll/pitch + known-vertical 2-point RANSAC + LS",
           Keys({kUpright2p, kRollPitchSource, kGravityEkf, kBoardInit})),
@@ -206,17 +213,37 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
           {"camera", "init_error_min", "init_error_max", "init_seed", "bearing_sigma_deg",
            "accel_noise_density", "gyro_noise_density", "gz_random_walk", "v_o_random_walk",
            "normal_random_walk", "gate_sigmas", "bias_from_ground_truth", "lever_arm"}),
-      Entry<TagPnpEstimator>("tag-pnp",
-                             "AprilTag paper III-A baseline: vision-only PnP on all tags",
-                             Keys({kBoardInit, {"camera"}})),
+      Entry<TagPnpEstimator>(
+          "tag-pnp", "AprilTag paper III-A baseline: vision-only PnP on the tags (+ RANSAC)",
+          Keys({kBoardInit, kCornerRansac, {"camera"}})),
       ImuEntry<TagEkfEstimator>(
           "tag-ekf", "AprilTag paper II-III: 15-state EKF, per-tag updates, delay handling",
-          Keys(
-              {kBoardInit, {"init",           "camera",           "use_tags",       "accel_var",
-                            "gyro_var",       "accel_bias_var",   "gyro_bias_var",  "position_var",
-                            "attitude_var",   "compensate_delay", "gate_chi2",      "delay_s",
-                            "init_pos_sigma", "init_vel_sigma",   "init_att_sigma", "init_ba_sigma",
-                            "init_bg_sigma",  "init_seed",        "init_p0_scale",  "rate_hz"}})),
+          Keys({kBoardInit,
+                {"init",
+                 "camera",
+                 "use_tags",
+                 "accel_var",
+                 "gyro_var",
+                 "accel_bias_var",
+                 "gyro_bias_var",
+                 "position_var",
+                 "attitude_var",
+                 "compensate_delay",
+                 "gate_chi2",
+                 "delay_s",
+                 "init_pos_sigma",
+                 "init_vel_sigma",
+                 "init_att_sigma",
+                 "init_ba_sigma",
+                 "init_bg_sigma",
+                 "init_seed",
+                 "init_p0_scale",
+                 "rate_hz",
+                 "reacquire",
+                 "reacquire_frames",
+                 "reacquire_pos_sigma",
+                 "reacquire_vel_sigma",
+                 "reacquire_att_sigma"}})),
       ImuEntry<SmootherEstimator>(
           "smoother",
           "Ceres batch smoother: Forster preintegration + visual residuals, "

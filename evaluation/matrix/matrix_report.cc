@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "evaluation/matrix/matrix_evaluation.h"
+#include "evaluation/report/latex.h"
 #include "evaluation/report/report_protocol.h"
 
 namespace mavloc {
@@ -14,17 +15,6 @@ const MatrixCell* Find(const MatrixResult& r, const std::string& e, const std::s
   for (const auto& c : r.cells)
     if (c.estimator == e && c.sequence == s) return &c;
   return nullptr;
-}
-
-std::string LatexEscape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    if (c == '_' || c == '&' || c == '%' || c == '#' || c == '$' || c == '{' || c == '}')
-      out += std::string("\\") + c;
-    else
-      out += c;
-  }
-  return out;
 }
 
 // Sequences x estimators, mean +- sample std of the APE translation RMSE over runs [m]; the lowest

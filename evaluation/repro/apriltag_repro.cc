@@ -23,6 +23,7 @@
 #include "datasets/rendering/tag_renderer.h"
 #include "datasets/scenarios/tag_arena.h"
 #include "evaluation/comparison.h"
+#include "evaluation/exact_json.h"
 #include "evaluation/json_number.h"
 #include "evaluation/report_writer.h"
 #include "evaluation/repro/repro_units.h"
@@ -290,42 +291,21 @@ nlohmann::json Summary(const std::vector<double>& values) {
 
 std::string TagNumber(double v, int digits = 3) { return FormatNumber(v, digits); }
 
-// ImageStats as exact JSON (a unit's result) and back.
-nlohmann::json RunningStatSums(const RunningStat& s) {
-  return {{"sum", JsonNumber(s.sum)}, {"max", JsonNumber(s.max)}, {"count", s.count}};
+// ImageStats as exact JSON (a unit's result; evaluation/exact_json.h).
+constexpr auto ExactFields(std::type_identity<RunningStat>) {
+  return std::make_tuple(ExactField("sum", &RunningStat::sum), ExactField("max", &RunningStat::max),
+                         ExactField("count", &RunningStat::count));
 }
-RunningStat RunningStatFromSums(const nlohmann::json& j) {
-  RunningStat s;
-  s.sum = NumberFromJson(j.at("sum"));
-  s.max = NumberFromJson(j.at("max"));
-  s.count = j.at("count").get<long>();
-  return s;
-}
-nlohmann::json ImageStatsSums(const ImageStats& s) {
-  return {{"frames", s.frames},
-          {"visible", s.visible},
-          {"visible_detected", s.visible_detected},
-          {"detections", s.detections},
-          {"false_detections", s.false_detections},
-          {"corner_px", RunningStatSums(s.corner_px)},
-          {"pose_position_m", RunningStatSums(s.pose_position_m)},
-          {"pose_angle_rad", RunningStatSums(s.pose_angle_rad)},
-          {"render_s", JsonNumber(s.render_s)},
-          {"detect_s", JsonNumber(s.detect_s)}};
-}
-ImageStats ImageStatsFromSums(const nlohmann::json& j) {
-  ImageStats s;
-  s.frames = j.at("frames").get<int>();
-  s.visible = j.at("visible").get<int>();
-  s.visible_detected = j.at("visible_detected").get<int>();
-  s.detections = j.at("detections").get<int>();
-  s.false_detections = j.at("false_detections").get<int>();
-  s.corner_px = RunningStatFromSums(j.at("corner_px"));
-  s.pose_position_m = RunningStatFromSums(j.at("pose_position_m"));
-  s.pose_angle_rad = RunningStatFromSums(j.at("pose_angle_rad"));
-  s.render_s = NumberFromJson(j.at("render_s"));
-  s.detect_s = NumberFromJson(j.at("detect_s"));
-  return s;
+constexpr auto ExactFields(std::type_identity<ImageStats>) {
+  return std::make_tuple(
+      ExactField("frames", &ImageStats::frames), ExactField("visible", &ImageStats::visible),
+      ExactField("visible_detected", &ImageStats::visible_detected),
+      ExactField("detections", &ImageStats::detections),
+      ExactField("false_detections", &ImageStats::false_detections),
+      ExactField("corner_px", &ImageStats::corner_px),
+      ExactField("pose_position_m", &ImageStats::pose_position_m),
+      ExactField("pose_angle_rad", &ImageStats::pose_angle_rad),
+      ExactField("render_s", &ImageStats::render_s), ExactField("detect_s", &ImageStats::detect_s));
 }
 
 // The reproduction's settings, checked once.
@@ -421,7 +401,7 @@ nlohmann::json HoverUnit(const AprilTagSettings& settings, uint64_t images_seed,
   if (settings.from_images) {
     const HoverImages& images = RenderedHover(settings, images_seed);
     d.tags = images.tags;
-    out["images"] = ImageStatsSums(images.stats);
+    out["images"] = ToExactJson(images.stats);
   }
   EvaluationOptions evaluation;
   for (const double p0_scale : {1.0, 0.1}) {
@@ -482,7 +462,7 @@ nlohmann::json DynamicUnit(const AprilTagSettings& settings, uint64_t seed) {
       {"tag-ekf", "tag-ekf", {}},
       {"tag-ekf (delay ignored)", "tag-ekf", {{"compensate_delay", "0"}}},
       {"tag-ekf (no tags)", "tag-ekf", {{"use_tags", "0"}}},
-      {"tag-pnp", "tag-pnp", {}},
+      {"tag-pnp", "tag-pnp", {{"ransac", "0"}}},  // the paper's baseline: every tag
   };
   nlohmann::json dynamic_json = {{"first_tag_s", first_tag_s},
                                  {"window_start_s", window_s},
@@ -539,7 +519,7 @@ nlohmann::json DynamicUnit(const AprilTagSettings& settings, uint64_t seed) {
                         {"rows", dynamic_rows},
                         {"csv", dynamic_csv},
                         {"processing_delay_s", dynamic.scenario_info.at("processing_delay_s")}};
-  if (settings.from_images) out["images"] = ImageStatsSums(dynamic_image_stats);
+  if (settings.from_images) out["images"] = ToExactJson(dynamic_image_stats);
   return out;
 }
 
@@ -587,9 +567,7 @@ nlohmann::json RunAprilTagReproUnit(const std::map<std::string, std::string>& se
 
 int RunAprilTagRepro(const ReproOptions& options) {
   AprilTagSettings settings = ParseAprilTagSettings(options.settings);
-  const int runs = options.runs.value_or(kAprilTagDefaultRuns);
-  if (runs < 1) throw InputError("", 0, "--runs", "must be >= 1");
-  if (options.jobs < 1) throw InputError("", 0, "--jobs", "must be >= 1");
+  const int runs = ReproRunCount(options, kAprilTagDefaultRuns);
   const bool from_images = settings.from_images;
   const double hover_s = settings.hover_s;
   const auto total_start = Clock::now();
@@ -601,31 +579,22 @@ int RunAprilTagRepro(const ReproOptions& options) {
     unit_options.settings["hover_images_seed"] = std::to_string(options.seed);
   }
 
-  // Units: (dynamic, first seed) and (hover, seed) for every seed; grid index = name index * runs
-  // + k. The dynamic flight (the longest unit) goes first. Every result goes through its JSON
-  // text, here or in a sweep worker, so --jobs changes nothing but the time.
-  const std::vector<std::string> unit_names = {kDynamicUnit, kHoverUnit};
-  std::vector<size_t> indices = {0};
-  for (int k = 0; k < runs; ++k) indices.push_back(static_cast<size_t>(runs + k));
-  std::vector<nlohmann::json> results;
-  if (options.jobs > 1) {
-    results = RunReproUnitsInWorkers("apriltag", unit_options, unit_names, runs, indices);
-  } else {
-    for (const size_t index : indices) {
-      const std::string& unit = unit_names[index / static_cast<size_t>(runs)];
-      const int k = static_cast<int>(index % static_cast<size_t>(runs));
-      if (unit == kDynamicUnit || k % 20 == 0)
-        ReportProgress("repro apriltag",
-                       fmt::format("{} run {}/{}", unit, k + 1, unit == kDynamicUnit ? 1 : runs));
-      results.push_back(nlohmann::json::parse(
-          AprilTagUnitResult(settings, unit, options.seed + static_cast<uint64_t>(k)).dump()));
-    }
-  }
+  // Units: (dynamic, first seed) and (hover, seed) for every seed; the dynamic flight (the
+  // longest unit) goes first.
+  ReproUnitGrid grid;
+  grid.runs = runs;
+  grid.unit_names = {kDynamicUnit, kHoverUnit};
+  grid.indices = {0};
+  for (int k = 0; k < runs; ++k) grid.indices.push_back(static_cast<size_t>(runs + k));
+  const std::vector<nlohmann::json> results =
+      RunReproUnits("apriltag", unit_options, grid, [&](const std::string& unit, uint64_t seed) {
+        return AprilTagUnitResult(settings, unit, seed);
+      });
   const nlohmann::json& dynamic_result = results.front();
   const ImageStats image_stats =
-      from_images ? ImageStatsFromSums(results[1].at("images")) : ImageStats{};
+      from_images ? FromExactJson<ImageStats>(results[1].at("images")) : ImageStats{};
   const ImageStats dynamic_image_stats =
-      from_images ? ImageStatsFromSums(dynamic_result.at("images")) : ImageStats{};
+      from_images ? FromExactJson<ImageStats>(dynamic_result.at("images")) : ImageStats{};
   HoverResult hover, hover_confident;
   std::vector<HoverSamples> hover_errors;
   for (size_t i = 1; i < results.size(); ++i) {

@@ -21,6 +21,7 @@
 #include "evaluation/association.h"
 #include "evaluation/comparison.h"
 #include "evaluation/reference.h"
+#include "evaluation/report/report_protocol.h"
 #include "evaluation/report_writer.h"
 #include "solver/estimator.h"
 
@@ -112,6 +113,19 @@ struct InBoard {
   double gravity_angle_rad = kNaN;
 };
 
+// The protocol of every trajectory comparison here: two solutions of the same images share their
+// keyframe stamps, so association is nearest within 5 ms (a tenth of the 20 Hz camera interval),
+// without alignment (both are expressed in the board's frame M, or both in their own W).
+EvaluationProtocol SameImagesProtocol() {
+  EvaluationProtocol protocol;
+  protocol.association = AssociationMode::kNearest;
+  protocol.max_dt_s = 0.005;
+  protocol.alignment = AlignmentMode::kNone;
+  protocol.rpe_deltas.clear();
+  protocol.relative_length_fractions.clear();
+  return protocol;
+}
+
 InBoard CompareInBoard(const Estimate& estimate, const Estimate& reference) {
   InBoard out;
   if (!estimate.T_W_M || !reference.T_W_M) return out;
@@ -121,10 +135,10 @@ InBoard CompareInBoard(const Estimate& estimate, const Estimate& reference) {
     for (const auto& p : e.poses) poses.push_back({p.t_ns, T_M_W * p.T_W_B});
     return poses;
   };
-  const auto pairs = AssociatePoses(to_board(estimate), to_board(reference), 0.005);
-  if (const auto ate = ComputeAte(pairs, AlignmentMode::kNone)) {
-    out.position_rms_m = ate->translation_m.rmse;
-    out.rotation_rms_rad = ate->rotation_rad.rmse;
+  if (const auto ate =
+          EvaluateTrajectory(to_board(estimate), to_board(reference), SameImagesProtocol())) {
+    out.position_rms_m = ate->ape_translation_m.rmse;
+    out.rotation_rms_rad = ate->ape_rotation_deg.rmse * kDeg;
   }
   const Eigen::Vector3d up_a = estimate.T_W_M->R().transpose() * Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d up_b = reference.T_W_M->R().transpose() * Eigen::Vector3d::UnitZ();
@@ -150,9 +164,9 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
     throw InputError("repro euroc-imu-april: initial must be coarse or official, not '" + initial +
                      "'");
   const double duration_s = GetDoubleSetting(options.settings, "duration_s", 0.0);
-  const auto estimators =
-      SplitList(GetStringSetting(options.settings, "estimators",
-                                 "tag-pnp,tag-ekf,tag-ekf:gate_chi2=0,pnp,upright-2p,pixhawk-kf"));
+  const auto estimators = SplitList(GetStringSetting(
+      options.settings, "estimators",
+      "tag-pnp,tag-ekf,tag-ekf:reacquire=0,tag-ekf:gate_chi2=0,pnp,upright-2p,pixhawk-kf"));
   // "name" or "name:key=value" (a variant with one option).
   auto split_variant = [](const std::string& item) {
     const auto colon = item.find(':');
@@ -368,20 +382,22 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
 
   // 6. cam0-only against cam1-only trajectories.
   if (runs[0].ran && runs[1].ran) {
-    const auto pairs = AssociatePoses(runs[0].estimate.poses, runs[1].estimate.poses, 0.005);
-    const auto ate = ComputeAte(pairs, AlignmentMode::kNone);
+    const auto ate =
+        EvaluateTrajectory(runs[0].estimate.poses, runs[1].estimate.poses, SameImagesProtocol());
     if (ate) {
-      tables["cam0_vs_cam1_trajectories"] = {{"pairs", pairs.size()},
-                                             {"position_rms_mm", ate->translation_m.rmse * 1e3},
-                                             {"position_max_mm", ate->translation_m.max * 1e3},
-                                             {"rotation_rms_deg", ate->rotation_rad.rmse / kDeg}};
+      const size_t pairs = ate->pair_count;
+      tables["cam0_vs_cam1_trajectories"] = {
+          {"pairs", pairs},
+          {"position_rms_m", ate->ape_translation_m.rmse},
+          {"position_max_m", ate->ape_translation_m.max},
+          {"rotation_rms_rad", ate->ape_rotation_deg.rmse * kDeg}};
       md << fmt::format(
           "## cam0-only against cam1-only\n\nThe body trajectories of the two independent "
           "solutions (each in the W of its own gravity estimate) over {} common keyframes: "
           "position RMS {} mm (max {} mm), rotation RMS {} deg.\n\n",
-          pairs.size(), FormatNumber(ate->translation_m.rmse * 1e3, 2),
-          FormatNumber(ate->translation_m.max * 1e3, 2),
-          FormatNumber(ate->rotation_rad.rmse / kDeg, 3));
+          pairs, FormatNumber(ate->ape_translation_m.rmse * 1e3, 2),
+          FormatNumber(ate->ape_translation_m.max * 1e3, 2),
+          FormatNumber(ate->ape_rotation_deg.rmse, 3));
     }
   }
 
@@ -400,6 +416,9 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
     }
     nlohmann::json table = nlohmann::json::object();
     std::vector<std::vector<std::string>> rows;
+    std::string events;  // filter resets and other events, once per estimator
+    for (const auto& [name, estimate] : results)
+      for (const auto& event : estimate.events) events += "- " + name + ": " + event + "\n";
     for (int r : {0, 2}) {
       if (!runs[r].ran) continue;
       const ComparisonReference reference =
@@ -449,10 +468,13 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
                          "M: position RMS [mm]", "M: rotation RMS [deg]", "gravity angle [deg]",
                          "reprojection rms [px]", "no solution"},
                         rows)
-       << "\n";
+       << "\n"
+       << (events.empty() ? std::string() : std::string("Events:\n\n").append(events).append("\n"));
   }
 
   files.markdown = md.str();
+  files.protocol = ReportProtocolOf(SameImagesProtocol(), false);
+  files.protocol->reference = "estimate";
   WriteReportFolder(options.report_dir, files);
   std::printf("%s", files.markdown.c_str());
   return 0;

@@ -14,7 +14,6 @@
 #include "core/errors.h"
 #include "core/key_values.h"
 #include "core/numbers.h"
-#include "core/progress.h"
 #include "core/rotation.h"
 #include "datasets/scenarios/euroc_laser.h"
 #include "datasets/scenarios/laser_plane.h"
@@ -82,6 +81,16 @@ QuantityResult Analyse(const QuantityErrorSeries& series, TimeNs t0, double band
   return r;
 }
 
+// The modes are compared with the truth interpolated at the filter's output stamps, within 3 ms
+// (a third of the 10 Hz spot interval), without alignment.
+ReportProtocol LaserProtocol() {
+  ReportProtocol protocol;
+  protocol.association = "interpolate";
+  protocol.max_dt_s = 0.003;
+  protocol.pose_relation = "quantities";
+  return protocol;
+}
+
 RunResult EvaluateRun(const Dataset& dataset, const EstimatorOptions& estimator_options,
                       const Bands& bands, uint64_t seed) {
   RunResult run;
@@ -94,8 +103,8 @@ RunResult EvaluateRun(const Dataset& dataset, const EstimatorOptions& estimator_
   }
   const Estimate estimate = estimator->Run(dataset);
   run.failures = estimate.FailureCount();
-  const auto errors =
-      ComputeQuantityErrors(estimate.quantities, dataset.truth_quantities, 0.003, kQuantities);
+  const auto errors = ComputeQuantityErrors(estimate.quantities, dataset.truth_quantities,
+                                            LaserProtocol().max_dt_s, kQuantities);
   const TimeNs t0 = estimate.quantities.t_ns.front();
   run.duration_s = NsToSeconds(estimate.quantities.t_ns.back() - t0);
   run.converged = true;
@@ -360,36 +369,25 @@ nlohmann::json RunLaserReproUnit(const std::map<std::string, std::string>& setti
 int RunLaserRepro(const ReproOptions& options) {
   const LaserSettings settings = ParseLaserSettings(options.settings);
   const std::map<std::string, std::string>& ekf_settings = settings.ekf;
-  const int runs = options.runs.value_or(kLaserDefaultRuns);
-  if (runs < 1) throw InputError("repro laser: --runs must be >= 1");
-  if (options.jobs < 1) throw InputError("repro laser: --jobs must be >= 1");
+  const int runs = ReproRunCount(options, kLaserDefaultRuns);
   const double duration_s = settings.duration_s;
   const int euroc_runs = std::min(runs, settings.euroc_runs);
   const bool with_euroc = settings.with_euroc;
   Bands bands = settings.bands;
 
   // Units: (laser-plane, seed), (laser-plane-bias, seed) for every seed, (euroc-laser, seed) for
-  // the first euroc_runs seeds; grid index = unit name index * runs + k. Every result goes through
-  // its JSON text, here or in a sweep worker, so --jobs changes nothing but the time.
-  std::vector<std::string> unit_names = {kNoBiasUnit, kBiasUnit};
-  if (with_euroc) unit_names.push_back(kEurocUnit);
-  std::vector<size_t> indices;
-  for (size_t u = 0; u < unit_names.size(); ++u)
-    for (int k = 0; k < (unit_names[u] == kEurocUnit ? euroc_runs : runs); ++k)
-      indices.push_back(u * static_cast<size_t>(runs) + static_cast<size_t>(k));
-  std::vector<nlohmann::json> results;
-  if (options.jobs > 1) {
-    results = RunReproUnitsInWorkers("laser", options, unit_names, runs, indices);
-  } else {
-    for (const size_t index : indices) {
-      const std::string& unit = unit_names[index / static_cast<size_t>(runs)];
-      const int k = static_cast<int>(index % static_cast<size_t>(runs));
-      ReportProgress("repro laser", fmt::format("{} run {}/{}", unit, k + 1,
-                                                unit == kEurocUnit ? euroc_runs : runs));
-      results.push_back(nlohmann::json::parse(
-          LaserUnitResult(settings, unit, options.seed + static_cast<uint64_t>(k)).dump()));
-    }
-  }
+  // the first euroc_runs seeds.
+  ReproUnitGrid grid;
+  grid.runs = runs;
+  grid.unit_names = {kNoBiasUnit, kBiasUnit};
+  if (with_euroc) grid.unit_names.push_back(kEurocUnit);
+  for (size_t u = 0; u < grid.unit_names.size(); ++u)
+    for (int k = 0; k < (grid.unit_names[u] == kEurocUnit ? euroc_runs : runs); ++k)
+      grid.indices.push_back(u * static_cast<size_t>(runs) + static_cast<size_t>(k));
+  const std::vector<nlohmann::json> results =
+      RunReproUnits("laser", options, grid, [&](const std::string& unit, uint64_t seed) {
+        return LaserUnitResult(settings, unit, seed);
+      });
 
   std::vector<TableResult> tables = {{"simulated, no bias", {}}, {"simulated, with bias", {}}};
   std::string euroc_note;
@@ -398,8 +396,8 @@ int RunLaserRepro(const ReproOptions& options) {
     tables.push_back({"euroc, IMU bias-corrected", {}});
     tables.push_back({"euroc, IMU from ground truth", {}});
   }
-  for (size_t i = 0; i < indices.size(); ++i) {
-    const size_t u = indices[i] / static_cast<size_t>(runs);
+  for (size_t i = 0; i < results.size(); ++i) {
+    const size_t u = grid.indices[i] / static_cast<size_t>(runs);
     const nlohmann::json& unit_runs = results[i].at("runs");
     for (size_t r = 0; r < unit_runs.size(); ++r)
       tables[u == 2 ? 2 + r : u].runs.push_back(RunFromJson(unit_runs[r]));
@@ -479,6 +477,7 @@ int RunLaserRepro(const ReproOptions& options) {
   files.markdown = md;
   files.json = json;
   files.extra["runs.csv"] = csv;
+  files.protocol = LaserProtocol();
   WriteReportFolder(options.report_dir, files);
   return 0;
 }

@@ -15,9 +15,9 @@
 #include "core/errors.h"
 #include "core/key_values.h"
 #include "core/numbers.h"
-#include "core/progress.h"
 #include "datasets/scenarios/marker_board_flight.h"
 #include "evaluation/comparison.h"
+#include "evaluation/exact_json.h"
 #include "evaluation/json_number.h"
 #include "evaluation/report_writer.h"
 #include "evaluation/repro/repro_units.h"
@@ -71,45 +71,18 @@ struct Metrics {
   }
 };
 
-// The sums of a unit's Metrics as exact JSON (JsonNumber keeps every bit of a finite double) and
-// back.
-nlohmann::json MetricsSums(const Metrics& m) {
-  return {{"sum_p2", JsonNumber(m.sum_p2)},
-          {"max_p", JsonNumber(m.max_p)},
-          {"sum_yaw2", JsonNumber(m.sum_yaw2)},
-          {"sum_rp2", JsonNumber(m.sum_rp2)},
-          {"sum_v2", JsonNumber(m.sum_v2)},
-          {"n_p", m.n_p},
-          {"n_yaw", m.n_yaw},
-          {"n_rp", m.n_rp},
-          {"n_v", m.n_v},
-          {"jumps", m.jumps},
-          {"frames", m.frames},
-          {"outputs", m.outputs},
-          {"failures", m.failures},
-          {"runs", m.runs},
-          {"runtime_s", JsonNumber(m.runtime_s)},
-          {"failure_reasons", m.failure_reasons}};
-}
-Metrics MetricsFromSums(const nlohmann::json& j) {
-  Metrics m;
-  m.sum_p2 = NumberFromJson(j.at("sum_p2"));
-  m.max_p = NumberFromJson(j.at("max_p"));
-  m.sum_yaw2 = NumberFromJson(j.at("sum_yaw2"));
-  m.sum_rp2 = NumberFromJson(j.at("sum_rp2"));
-  m.sum_v2 = NumberFromJson(j.at("sum_v2"));
-  m.n_p = j.at("n_p").get<long>();
-  m.n_yaw = j.at("n_yaw").get<long>();
-  m.n_rp = j.at("n_rp").get<long>();
-  m.n_v = j.at("n_v").get<long>();
-  m.jumps = j.at("jumps").get<long>();
-  m.frames = j.at("frames").get<long>();
-  m.outputs = j.at("outputs").get<long>();
-  m.failures = j.at("failures").get<long>();
-  m.runs = j.at("runs").get<int>();
-  m.runtime_s = NumberFromJson(j.at("runtime_s"));
-  m.failure_reasons = j.at("failure_reasons").get<std::map<std::string, int>>();
-  return m;
+// The sums of a unit's Metrics as exact JSON (evaluation/exact_json.h).
+constexpr auto ExactFields(std::type_identity<Metrics>) {
+  return std::make_tuple(
+      ExactField("sum_p2", &Metrics::sum_p2), ExactField("max_p", &Metrics::max_p),
+      ExactField("sum_yaw2", &Metrics::sum_yaw2), ExactField("sum_rp2", &Metrics::sum_rp2),
+      ExactField("sum_v2", &Metrics::sum_v2), ExactField("n_p", &Metrics::n_p),
+      ExactField("n_yaw", &Metrics::n_yaw), ExactField("n_rp", &Metrics::n_rp),
+      ExactField("n_v", &Metrics::n_v), ExactField("jumps", &Metrics::jumps),
+      ExactField("frames", &Metrics::frames), ExactField("outputs", &Metrics::outputs),
+      ExactField("failures", &Metrics::failures), ExactField("runs", &Metrics::runs),
+      ExactField("runtime_s", &Metrics::runtime_s),
+      ExactField("failure_reasons", &Metrics::failure_reasons));
 }
 
 struct PixhawkVariant {
@@ -292,7 +265,7 @@ std::vector<std::string> MetricCells(const Metrics& m) {
           PixhawkNumber(m.RollPitchRmseDeg(), 3), PixhawkNumber(m.OutputPercent(), 1)};
 }
 
-PixhawkVariant Pnp() { return {"pnp", "pnp", {}}; }
+PixhawkVariant Pnp() { return {"pnp", "pnp", {{"ransac", "0"}}}; }  // the paper's baseline
 PixhawkVariant Upright(const std::string& label, Settings options = {}) {
   return {label, "upright-2p", std::move(options)};
 }
@@ -620,7 +593,7 @@ nlohmann::json PixhawkUnitResult(const PixhawkSettings& settings, const std::str
       if (config.name != unit) continue;
       nlohmann::json variants = nlohmann::json::array();
       for (const auto& m : RunConfigOnce(settings, config, seed))
-        variants.push_back(MetricsSums(m));
+        variants.push_back(ToExactJson(m));
       return {{"variants", variants}};
     }
   }
@@ -636,9 +609,7 @@ nlohmann::json RunPixhawkReproUnit(const std::map<std::string, std::string>& set
 
 int RunPixhawkRepro(const ReproOptions& options) {
   const PixhawkSettings settings = ParsePixhawkSettings(options.settings);
-  const int runs = options.runs.value_or(kPixhawkDefaultRuns);
-  if (runs < 1) throw InputError("repro pixhawk: --runs must be >= 1");
-  if (options.jobs < 1) throw InputError("repro pixhawk: --jobs must be >= 1");
+  const int runs = ReproRunCount(options, kPixhawkDefaultRuns);
   // Validate the scenario settings once, before the long runs (the registry's generate also
   // rejects keys the scenario does not have).
   {
@@ -648,35 +619,23 @@ int RunPixhawkRepro(const ReproOptions& options) {
     FindScenario("marker-board-flight")->generate(check);
   }
 
-  // Units: (configuration, seed), grid index = configuration index * runs + k. Every result goes
-  // through its JSON text, here or in a sweep worker, and the runs' sums are added in seed order,
-  // so --jobs changes nothing but the time.
+  // Units: (configuration, seed); the runs' sums are added in seed order.
   const std::vector<PixhawkConfig> configs = SelectedConfigs(settings.tables);
-  std::vector<std::string> unit_names;
-  for (const auto& c : configs) unit_names.push_back(c.name);
-  std::vector<size_t> indices;
-  for (size_t i = 0; i < configs.size() * static_cast<size_t>(runs); ++i) indices.push_back(i);
-  std::vector<nlohmann::json> unit_results;
-  if (options.jobs > 1) {
-    unit_results = RunReproUnitsInWorkers("pixhawk", options, unit_names, runs, indices);
-  } else {
-    for (const size_t index : indices) {
-      const PixhawkConfig& config = configs[index / static_cast<size_t>(runs)];
-      const int k = static_cast<int>(index % static_cast<size_t>(runs));
-      ReportProgress("repro pixhawk", fmt::format("{} run {}/{}", config.name, k + 1, runs));
-      unit_results.push_back(nlohmann::json::parse(
-          PixhawkUnitResult(settings, config.name, options.seed + static_cast<uint64_t>(k))
-              .dump()));
-    }
-  }
+  ReproUnitGrid grid;
+  grid.runs = runs;
+  for (const auto& c : configs) grid.unit_names.push_back(c.name);
+  const std::vector<nlohmann::json> unit_results =
+      RunReproUnits("pixhawk", options, grid, [&](const std::string& unit, uint64_t seed) {
+        return PixhawkUnitResult(settings, unit, seed);
+      });
   PixhawkResults results;
-  for (size_t i = 0; i < indices.size(); ++i) {
-    const PixhawkConfig& config = configs[indices[i] / static_cast<size_t>(runs)];
+  for (size_t i = 0; i < unit_results.size(); ++i) {
+    const PixhawkConfig& config = configs[i / static_cast<size_t>(runs)];
     auto& total = results[config.name];
     total.resize(config.variants.size());
     const nlohmann::json& variants = unit_results[i].at("variants");
     for (size_t v = 0; v < config.variants.size(); ++v)
-      total[v].Add(MetricsFromSums(variants.at(v)));
+      total[v].Add(FromExactJson<Metrics>(variants.at(v)));
   }
 
   std::map<std::string, Table> tables;

@@ -49,4 +49,9 @@ void RejectUnknownReproSettings(const std::string& repro,
                                 const std::vector<std::string>& known);
 const ReproEntry* FindRepro(const std::string& name);
 
+// Registers every reproduction that runs as units as a sweep unit kind of its name
+// (evaluation/sweep/unit_kinds.h), for `repro NAME --jobs N` and sweep workers; called once at
+// program start.
+void RegisterReproUnitKinds();
+
 }  // namespace mavloc

@@ -9,6 +9,7 @@
 #include "evaluation/repro/repro.h"
 #include "evaluation/repro/smoother_repro.h"
 #include "evaluation/repro/three_point_repro.h"
+#include "evaluation/sweep/unit_kinds.h"
 
 namespace mavloc {
 
@@ -42,6 +43,11 @@ void RejectUnknownReproSettings(const std::string& repro,
     throw InputError("--set " + key + "=" + value + ": repro " + repro + " has no setting '" + key +
                      "' (known: " + list + ")");
   }
+}
+
+void RegisterReproUnitKinds() {
+  for (const auto& entry : ReproRegistry())
+    if (entry.unit) RegisterSweepUnitKind(entry.name, entry.unit);
 }
 
 const ReproEntry* FindRepro(const std::string& name) {

@@ -17,7 +17,6 @@
 #include "core/errors.h"
 #include "core/key_values.h"
 #include "core/numbers.h"
-#include "core/progress.h"
 #include "core/rotation.h"
 #include "datasets/scenarios/euroc_laser.h"
 #include "datasets/scenarios/scenario.h"
@@ -39,7 +38,6 @@ namespace {
 
 constexpr int kSmootherDefaultRuns = 20;
 constexpr double kEarlyWindowS = 10.0;
-constexpr const char* kSmootherStage = "repro smoother";
 // The smoother's built-in seed for features0 with map landmarks (no registry estimator).
 constexpr const char* kLandmarkPnp = "landmark-pnp";
 const std::vector<std::string> kAllScenarios = {
@@ -1153,9 +1151,7 @@ nlohmann::json RunSmootherReproUnit(const std::map<std::string, std::string>& ra
 
 int RunSmootherRepro(const ReproOptions& options) {
   const SmootherSettings settings = ParseSettings(options.settings);
-  const int runs = options.runs.value_or(kSmootherDefaultRuns);
-  if (runs < 1) throw InputError("repro smoother: --runs must be >= 1");
-  if (options.jobs < 1) throw InputError("repro smoother: --jobs must be >= 1");
+  const int runs = ReproRunCount(options, kSmootherDefaultRuns);
   const std::string& euroc_data = settings.euroc_data;
   const bool explicit_list = options.settings.count("scenarios") > 0;
   const std::vector<std::string> scenarios =
@@ -1181,33 +1177,20 @@ int RunSmootherRepro(const ReproOptions& options) {
     plans.push_back(std::move(plan));
   }
 
-  // Every (scenario, seed) is a unit of the sweep machinery: unit index = plan * runs + k. Each
-  // result goes through its JSON text, in this process or in a worker, so --jobs changes nothing
-  // but the time.
+  // Every (scenario, seed) is a unit.
   const auto start = std::chrono::steady_clock::now();
-  std::vector<nlohmann::json> units;
-  if (options.jobs > 1 && !plans.empty()) {
-    std::vector<std::string> names;
-    for (const auto& plan : plans) names.push_back(plan.scenario);
-    std::vector<size_t> indices(plans.size() * static_cast<size_t>(runs));
-    for (size_t i = 0; i < indices.size(); ++i) indices[i] = i;
-    units = RunReproUnitsInWorkers("smoother", options, names, runs, indices);
-  } else {
-    for (const auto& plan : plans) {
-      for (int k = 0; k < runs; ++k) {
-        const uint64_t seed = options.seed + static_cast<uint64_t>(k);
-        ReportProgress(kSmootherStage,
-                       fmt::format("{} run {}/{} (seed {})", plan.scenario, k + 1, runs, seed));
-        units.push_back(nlohmann::json::parse(
-            RunUnit(plan, seed, settings.DurationFor(plan.scenario), euroc_data).dump()));
-      }
-    }
-  }
+  ReproUnitGrid grid;
+  grid.runs = runs;
+  for (const auto& plan : plans) grid.unit_names.push_back(plan.scenario);
+  const std::vector<nlohmann::json> units =
+      RunReproUnits("smoother", options, grid, [&](const std::string& unit, uint64_t seed) {
+        const auto plan = std::find_if(plans.begin(), plans.end(),
+                                       [&](const Plan& p) { return p.scenario == unit; });
+        return RunUnit(*plan, seed, settings.DurationFor(unit), euroc_data);
+      });
   std::vector<ScenarioResult> results;
   for (size_t p = 0; p < plans.size(); ++p)
-    results.push_back(MakeScenarioResult(
-        plans[p], std::vector<nlohmann::json>(units.begin() + static_cast<long>(p * runs),
-                                              units.begin() + static_cast<long>((p + 1) * runs))));
+    results.push_back(MakeScenarioResult(plans[p], UnitRuns(units, p, runs)));
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

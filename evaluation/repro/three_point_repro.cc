@@ -19,7 +19,6 @@
 #include "core/key_values.h"
 #include "core/number_text.h"
 #include "core/numbers.h"
-#include "core/progress.h"
 #include "core/rotation.h"
 #include "datasets/scenarios/three_point_hover.h"
 #include "evaluation/comparison.h"
@@ -374,9 +373,7 @@ nlohmann::json RunThreePointReproUnit(const std::map<std::string, std::string>& 
 }
 
 int RunThreePointRepro(const ReproOptions& options) {
-  const int runs = options.runs.value_or(kThreePointDefaultRuns);
-  if (runs < 1) throw InputError("repro three-point: --runs must be >= 1");
-  if (options.jobs < 1) throw InputError("repro three-point: --jobs must be >= 1");
+  const int runs = ReproRunCount(options, kThreePointDefaultRuns);
   const ThreePointPlan plan = MakeThreePointPlan(options.settings);
   const Settings& scenario_settings = plan.scenario_settings;
   const Dataset& reference = plan.reference;
@@ -387,30 +384,17 @@ int RunThreePointRepro(const ReproOptions& options) {
   const double bearing_noise_deg = plan.bearing_noise_deg;
   const std::string seeds = fmt::format("{}..{}", options.seed, options.seed + runs - 1);
 
-  // Every (configuration, seed) is a unit of the sweep machinery (unit index = configuration *
-  // runs + k); each result goes through its JSON text, here or in a worker, so --jobs changes
-  // nothing but the time.
-  std::vector<nlohmann::json> units;
-  if (options.jobs > 1) {
-    std::vector<std::string> labels;
-    for (const auto& config : plan.configs) labels.push_back(config.label);
-    std::vector<size_t> indices(plan.configs.size() * static_cast<size_t>(runs));
-    for (size_t i = 0; i < indices.size(); ++i) indices[i] = i;
-    units = RunReproUnitsInWorkers("three-point", options, labels, runs, indices);
-  } else {
-    for (const auto& config : plan.configs) {
-      for (int k = 0; k < runs; ++k) {
-        ReportProgress("repro three-point", fmt::format("{} run {}/{}", config.label, k + 1, runs));
-        units.push_back(nlohmann::json::parse(
-            RunThreePointUnit(config, options.seed + static_cast<uint64_t>(k)).dump()));
-      }
-    }
-  }
-  auto stats_of = [&](size_t c) {
-    return MergeRuns(plan.configs[c], std::vector<nlohmann::json>(
-                                          units.begin() + static_cast<long>(c * runs),
-                                          units.begin() + static_cast<long>((c + 1) * runs)));
-  };
+  // Every (configuration, seed) is a unit.
+  ReproUnitGrid unit_grid;
+  unit_grid.runs = runs;
+  for (const auto& config : plan.configs) unit_grid.unit_names.push_back(config.label);
+  const std::vector<nlohmann::json> units =
+      RunReproUnits("three-point", options, unit_grid, [&](const std::string& unit, uint64_t seed) {
+        const auto config = std::find_if(plan.configs.begin(), plan.configs.end(),
+                                         [&](const auto& c) { return c.label == unit; });
+        return RunThreePointUnit(*config, seed);
+      });
+  auto stats_of = [&](size_t c) { return MergeRuns(plan.configs[c], UnitRuns(units, c, runs)); };
 
   // ---- table1: the scenario as configured (the paper's noise by default). ----
   const auto table1 = stats_of(0);

@@ -13,7 +13,7 @@
 #include "core/number_text.h"
 #include "datasets/scenarios/scenario.h"
 #include "evaluation/alignment.h"
-#include "evaluation/repro/repro.h"
+#include "evaluation/sweep/unit_kinds.h"
 #include "solver/estimator.h"
 
 namespace mavloc {
@@ -124,8 +124,8 @@ void ValidateSweepGrid(const SweepGrid& grid) {
   if (grid.scenarios.empty()) throw InputError("sweep: no scenario (--scenario a,b)");
   if (grid.seeds.empty()) throw InputError("sweep: no seeds (--seeds 1..20)");
   if (!grid.repro.empty()) {  // the reproduction checks its own settings and scenarios
-    const ReproEntry* entry = FindRepro(grid.repro);
-    if (!entry || !entry->unit)
+    const SweepUnitKind* kind = FindSweepUnitKind(grid.repro);
+    if (!kind)
       throw InputError("sweep: '" + grid.repro + "' is not a reproduction that runs as units");
     return;
   }

@@ -5,7 +5,7 @@
 #include "core/errors.h"
 #include "datasets/scenarios/scenario.h"
 #include "evaluation/comparison.h"
-#include "evaluation/repro/repro.h"
+#include "evaluation/sweep/unit_kinds.h"
 #include "solver/estimator.h"
 
 namespace mavloc {
@@ -58,10 +58,10 @@ void AddMetric(nlohmann::json& row, const std::string& name, double value,
 nlohmann::json RunSweepUnit(const SweepGrid& grid, size_t index) {
   const SweepUnit unit = SweepUnitAt(grid, index);
   if (!grid.repro.empty()) {  // one run of a reproduction (`repro NAME --jobs N`)
-    const ReproEntry* entry = FindRepro(grid.repro);
-    if (!entry || !entry->unit)
+    const SweepUnitKind* kind = FindSweepUnitKind(grid.repro);
+    if (!kind)
       throw InputError("sweep: '" + grid.repro + "' is not a reproduction that runs as units");
-    nlohmann::json result = entry->unit(grid.repro_settings, unit.scenario, unit.seed);
+    nlohmann::json result = (*kind)(grid.repro_settings, unit.scenario, unit.seed);
     result["index"] = index;
     return result;
   }

@@ -1,14 +1,15 @@
 #include "solver/estimators/pnp_estimator.h"
 
 #include "solver/pixhawk/roll_pitch_source.h"
-#include "solver/pose/corner_pnp.h"
+#include "solver/pose/corner_pnp_ransac.h"
 #include "solver/pose/tags_camera.h"
 
 namespace mavloc {
 
 PnpEstimator::PnpEstimator(const EstimatorOptions& options)
     : image_delay_ms_(options.GetDouble("image_delay_ms", 0.0)),
-      board_(ParseBoardInitOptions(options)) {}
+      board_(ParseBoardInitOptions(options)),
+      ransac_(ParseCornerRansacOptions(options)) {}
 
 Applicability PnpEstimator::AppliesTo(const Dataset& dataset) const {
   if (dataset.tags.empty()) return Applicability::No("needs tags0 corner observations");
@@ -28,7 +29,7 @@ Estimate PnpEstimator::Run(const Dataset& dataset) {
 
 Estimate PnpEstimator::RunInWorld(const Dataset& dataset) const {
   Estimate estimate;
-  estimate.quantities = MakeQuantityTable(PoseQuantityNames(/*with_velocity=*/false));
+  estimate.quantities = MakeQuantityTable(FramePoseQuantityNames());
   const CameraSensor& camera = *TagsCamera(dataset);
   const TimeNs delay_ns = SecondsToNs(1e-3 * image_delay_ms_);
   for (const TagFrame& frame : GroupTagFrames(dataset)) {
@@ -36,14 +37,8 @@ Estimate PnpEstimator::RunInWorld(const Dataset& dataset) const {
       estimate.CountFailure("no marker in view");
       continue;
     }
-    const CornerPnpResult result = CornerPnp(frame.observations, dataset.map.tags, camera);
-    if (!result.ok) {
-      estimate.CountFailure(result.reason);
-      continue;
-    }
-    const TimeNs t = frame.t_ns - delay_ns;
-    estimate.quantities.Append(t, PoseQuantityValues(result.T_W_B));
-    estimate.poses.push_back({t, result.T_W_B});
+    RecordFramePose(CornerPnpRansac(frame.observations, dataset.map.tags, camera, ransac_),
+                    frame.t_ns - delay_ns, &estimate);
   }
   return estimate;
 }

@@ -1,17 +1,20 @@
 // pnp: the PIXHAWK paper's vision-only baseline (Meier et al. 2012, 3.1 and 7.2: the 4-point
 // ARToolKit+ pose, "without the 2-point algorithm"): per frame, T_W_B from all the corners of the
 // markers in view (solver/pose/corner_pnp.h: IPPE for the coplanar floor board + LM on the pixel
-// reprojection error), no IMU and no filtering. Output at each frame: x, y, z, roll, pitch, yaw
-// and the pose. On a board map (MapFrame::kBoard) the map is first put into the gravity-aligned W
-// of core/board_frame.h from the first gravity_init_s seconds of PnP poses and IMU
+// reprojection error), no IMU and no filtering; markers that disagree with the frame's consensus
+// pose are left out (solver/pose/corner_pnp_ransac.h; ransac=0 uses every marker, as the paper's
+// baseline does). Output at each frame: x, y, z, roll, pitch, yaw, inlier_tags and the pose. On a
+// board map (MapFrame::kBoard) the map is first put into the gravity-aligned W of
+// core/board_frame.h from the first gravity_init_s seconds of PnP poses and IMU
 // (solver/board/board_world.h); every frame, those of the window included, is then solved in W,
 // and the estimate carries T_W_M and board_roll, board_pitch. Options: image_delay_ms (0):
 // subtracted from the frame stamps (a known transfer delay); gravity_init_s (2), gravity_min_tags
-// (2).
+// (2); ransac (1), ransac_threshold_px (4), ransac_min_tags (2), single_tag (1).
 #pragma once
 
 #include "solver/board/board_world.h"
 #include "solver/estimator.h"
+#include "solver/pose/corner_pnp_ransac.h"
 
 namespace mavloc {
 
@@ -27,6 +30,7 @@ class PnpEstimator : public Estimator {
 
   double image_delay_ms_;
   BoardInitOptions board_;
+  CornerRansacOptions ransac_;
 };
 
 }  // namespace mavloc

@@ -1,5 +1,7 @@
 #include "solver/estimators/tag_ekf_estimator.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -20,12 +22,15 @@ struct PendingFrame {
   TimeNs t_exposure_ns = 0;
   TimeNs t_available_ns = 0;
   std::vector<TagPoseMeasurement> tags;
+  std::vector<TagObservation> observations;  // of map tags, for the PnP of a re-acquisition
 };
 
 }  // namespace
 
 TagEkfEstimator::TagEkfEstimator(const EstimatorOptions& options)
-    : options_(options), board_(ParseBoardInitOptions(options)) {
+    : options_(options),
+      board_(ParseBoardInitOptions(options)),
+      reacquire_(ParseReacquireOptions(options)) {
   const std::string init = options.GetString("init", "truth");
   if (init != "truth" && init != "zero" && init != "perturbed" && init != "window")
     throw InputError("", 0, "init",
@@ -188,6 +193,7 @@ Estimate TagEkfEstimator::RunInWorld(const Dataset& dataset,
           continue;
         }
         frame.tags.push_back({obs.tag_id, pnp.T_W_C.Inverse() * tag->second.T_W_T});
+        frame.observations.push_back(obs);
       }
       if (!frame.tags.empty()) frames.push_back(std::move(frame));
       begin = end;
@@ -223,8 +229,27 @@ Estimate TagEkfEstimator::RunInWorld(const Dataset& dataset,
   };
 
   size_t next_frame = 0;
-  auto apply_available = [&](TimeNs now) {
-    while (next_frame < frames.size() && frames[next_frame].t_available_ns <= now) {
+  std::vector<const PendingFrame*> gated;  // consecutive frames whose every tag was gated out
+  int resets = 0;
+  // Lost lock (tag_ekf_reacquire.h): restart from the whole-frame PnP of the gated frames.
+  auto reacquire = [&](const ImuSample& now) {
+    std::vector<StampedPose> poses;
+    for (const PendingFrame* frame : gated) {
+      const CornerPnpResult pnp = CornerPnp(frame->observations, dataset.map.tags, camera);
+      if (pnp.ok) poses.push_back({frame->t_exposure_ns, pnp.T_W_B});
+    }
+    const auto state = ReacquireState(poses, now.t_ns, ekf.state(), ekf.covariance(), reacquire_);
+    if (!state) return;  // tried again after the next gated frame
+    ekf.Initialize(now, state->x, state->P);
+    ++resets;
+    estimate.events.push_back(
+        fmt::format("re-acquired at t = {:.3f} s: every tag of {} consecutive frames gated out; "
+                    "state reset from their whole-frame PnP",
+                    NsToSeconds(now.t_ns), gated.size()));
+    gated.clear();
+  };
+  auto apply_available = [&](const ImuSample& now) {
+    while (next_frame < frames.size() && frames[next_frame].t_available_ns <= now.t_ns) {
       const PendingFrame& frame = frames[next_frame++];
       const TagUpdateResult result = ekf.Update(frame.t_exposure_ns, frame.tags);
       if (result.too_old) estimate.CountRejection("measurement older than the buffer");
@@ -232,6 +257,13 @@ Estimate TagEkfEstimator::RunInWorld(const Dataset& dataset,
       if (result.rejected_gate > 0)
         estimate.CountRejection("tag rejected by the innovation gate", result.rejected_gate);
       if (result.unknown_tag > 0) estimate.CountRejection("tag not in map", result.unknown_tag);
+      if (!reacquire_.enabled || result.too_old || result.in_future) continue;
+      if (result.applied > 0 || result.rejected_gate == 0) {
+        gated.clear();
+        continue;
+      }
+      gated.push_back(&frame);
+      if (static_cast<int>(gated.size()) >= reacquire_.frames) reacquire(now);
     }
   };
   // Frames exposed before the filter's first IMU sample cannot be used.
@@ -239,17 +271,19 @@ Estimate TagEkfEstimator::RunInWorld(const Dataset& dataset,
     estimate.CountRejection("measurement before the first IMU sample");
     ++next_frame;
   }
-  apply_available(imu[k_start].t_ns);
+  apply_available(imu[k_start]);
   record();
   next_output_ns += output_step_ns;
   for (size_t k = k_start + 1; k < imu.size(); ++k) {
     ekf.Propagate(imu[k]);
-    apply_available(imu[k].t_ns);
+    apply_available(imu[k]);
     if (imu[k].t_ns >= next_output_ns) {
       record();
       while (next_output_ns <= imu[k].t_ns) next_output_ns += output_step_ns;
     }
   }
+  if (reacquire_.enabled)
+    estimate.parameters["tag_ekf_resets"] = {static_cast<double>(resets), {}, ""};
   return estimate;
 }
 

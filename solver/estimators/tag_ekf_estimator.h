@@ -34,6 +34,12 @@
 //   gate_chi2          per-tag innovation gate (default 22.46; 0 disables)
 //   accel_var, gyro_var, accel_bias_var, gyro_bias_var, position_var, attitude_var: Table I
 //   camera             default: the tags' camera (cameras[0])
+//   reacquire          1 (default) / 0: after reacquire_frames (default 5) consecutive frames whose
+//                      every tag was gated out, restart from their whole-frame PnP
+//                      (tag_ekf_reacquire.h; reacquire_pos_sigma 0.05 m, reacquire_vel_sigma
+//                      0.5 m/s, reacquire_att_sigma 0.05 rad); 0 is the paper's filter, which
+//                      never recovers from lost lock. Each reset is an event line of the report;
+//                      their count is the parameter tag_ekf_resets.
 //
 // On a board map (MapFrame::kBoard) the map is first put into the gravity-aligned W of
 // core/board_frame.h from the PnP poses and IMU of the initial window (solver/board/board_world.h),
@@ -48,6 +54,7 @@
 
 #include "solver/board/board_world.h"
 #include "solver/estimator.h"
+#include "solver/estimators/tag_ekf_reacquire.h"
 #include "solver/tag_ekf/tag_ekf.h"
 
 namespace mavloc {
@@ -68,6 +75,7 @@ class TagEkfEstimator : public Estimator {
 
   EstimatorOptions options_;
   BoardInitOptions board_;
+  ReacquireOptions reacquire_;
 };
 
 }  // namespace mavloc

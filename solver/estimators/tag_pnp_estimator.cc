@@ -1,12 +1,14 @@
 #include "solver/estimators/tag_pnp_estimator.h"
 
-#include "solver/pose/corner_pnp.h"
+#include "solver/pose/corner_pnp_ransac.h"
 #include "solver/pose/tags_camera.h"
 
 namespace mavloc {
 
 TagPnpEstimator::TagPnpEstimator(const EstimatorOptions& options)
-    : camera_name_(options.GetString("camera", "")), board_(ParseBoardInitOptions(options)) {}
+    : camera_name_(options.GetString("camera", "")),
+      board_(ParseBoardInitOptions(options)),
+      ransac_(ParseCornerRansacOptions(options)) {}
 
 Applicability TagPnpEstimator::AppliesTo(const Dataset& dataset) const {
   if (dataset.tags.empty()) return Applicability::No("needs tags0 observations");
@@ -26,7 +28,7 @@ Estimate TagPnpEstimator::Run(const Dataset& dataset) {
 
 Estimate TagPnpEstimator::RunInWorld(const Dataset& dataset) const {
   Estimate estimate;
-  estimate.quantities = MakeQuantityTable(PoseQuantityNames(/*with_velocity=*/false));
+  estimate.quantities = MakeQuantityTable(FramePoseQuantityNames());
   const CameraSensor& camera = *TagsCamera(dataset, camera_name_);
   // tags0 is time-ordered: one frame is a run of rows with the same stamp.
   for (size_t begin = 0; begin < dataset.tags.size();) {
@@ -34,13 +36,8 @@ Estimate TagPnpEstimator::RunInWorld(const Dataset& dataset) const {
     while (end < dataset.tags.size() && dataset.tags[end].t_ns == dataset.tags[begin].t_ns) ++end;
     const std::vector<TagObservation> frame(dataset.tags.begin() + begin,
                                             dataset.tags.begin() + end);
-    const CornerPnpResult result = CornerPnp(frame, dataset.map.tags, camera);
-    if (result.ok) {
-      estimate.quantities.Append(frame.front().t_ns, PoseQuantityValues(result.T_W_B));
-      estimate.poses.push_back({frame.front().t_ns, result.T_W_B});
-    } else {
-      estimate.CountFailure(result.reason);
-    }
+    RecordFramePose(CornerPnpRansac(frame, dataset.map.tags, camera, ransac_), frame.front().t_ns,
+                    &estimate);
     begin = end;
   }
   return estimate;

@@ -1,19 +1,22 @@
 // tag-pnp: the vision-only baseline of the AprilTag paper (III-A): for every tags0 frame, the pose
-// T_W_B from all the frame's tag corners at once (solver/pose/corner_pnp.h: IPPE + LM on the
-// reprojection error), with no IMU and no filtering. Frames with no tag in the map, or where the
-// PnP fails, are counted as failures by reason. Reports x, y, z, roll, pitch, yaw.
+// T_W_B from the frame's tag corners (solver/pose/corner_pnp.h: IPPE + LM on the reprojection
+// error), with no IMU and no filtering. Tags that disagree with the frame's consensus pose are left
+// out (solver/pose/corner_pnp_ransac.h; ransac=0 uses every tag, as the paper does) and counted as
+// rejections. Frames with no tag in the map, or where the PnP fails or no two tags agree, are
+// counted as failures by reason. Reports x, y, z, roll, pitch, yaw and inlier_tags.
 // On a board map (MapFrame::kBoard) the map is first put into the gravity-aligned W of
 // core/board_frame.h from the first gravity_init_s seconds of PnP poses and IMU
 // (solver/board/board_world.h); every frame, those of the window included, is then solved in W,
 // and the estimate carries T_W_M and board_roll, board_pitch.
 // Options: camera (default: the tags' camera, cameras[0]), gravity_init_s (2), gravity_min_tags
-// (2).
+// (2), ransac (1), ransac_threshold_px (4), ransac_min_tags (2), single_tag (1).
 #pragma once
 
 #include <string>
 
 #include "solver/board/board_world.h"
 #include "solver/estimator.h"
+#include "solver/pose/corner_pnp_ransac.h"
 
 namespace mavloc {
 
@@ -29,6 +32,7 @@ class TagPnpEstimator : public Estimator {
 
   std::string camera_name_;
   BoardInitOptions board_;
+  CornerRansacOptions ransac_;
 };
 
 }  // namespace mavloc

@@ -75,7 +75,8 @@ testing::CommandResult* ReportHtml::compare_ = nullptr;
 TEST_F(ReportHtml, CompareWritesFiguresTrajectoriesAndThePage) {
   const std::string report = *dir_ + "/report";
   EXPECT_NE(compare_->output.find(
-                "figures: errors_over_time.png, error_boxplots.png, trajectory.png; all in " +
+                "figures: errors_over_time.png, error_boxplots.png, trajectory.png, "
+                "trajectory_ape.png, ape_over_time.png, trajectory_xyz_rpy.png; all in " +
                 report + "/report.html"),
             std::string::npos)
       << compare_->output;
@@ -85,7 +86,7 @@ TEST_F(ReportHtml, CompareWritesFiguresTrajectoriesAndThePage) {
   // gravity-ekf gives roll and pitch only: no trajectory file for it.
   EXPECT_FALSE(fs::exists(report + "/estimate_gravity-ekf.tum"));
   const std::string html = ReadAll(report + "/report.html");
-  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,"), 3u);
+  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,"), 6u);
   EXPECT_NE(html.find("<th style=\"text-align:right\">ATE RMSE [m]</th>"), std::string::npos);
   EXPECT_NE(ReadAll(report + "/report.md").find("[report.html](report.html)"), std::string::npos);
 }
@@ -111,7 +112,7 @@ TEST_F(ReportHtml, WithoutPythonTheExitCodeIsUnchangedAndTheOutputSaysHow) {
   ASSERT_EQ(figures.exit_code, 0) << figures.output;
   EXPECT_TRUE(fs::exists(report + "/errors_over_time.png"));
   const std::string html = ReadAll(report + "/report.html");
-  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,"), 3u);
+  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,"), 6u);
   EXPECT_EQ(html.find("figures-note"), std::string::npos);
   EXPECT_EQ(Count(ReadAll(report + "/report.md"), "## Figures"), 1u);
 }
@@ -170,8 +171,8 @@ TEST_F(ReportHtml, ChromiumLoadsThePageAndDecodesEveryImage) {
   ASSERT_TRUE(
       std::regex_search(result, m, std::regex(R"(images=(\d+) decoded=(\d+) tables=(\d+))")))
       << result;
-  EXPECT_EQ(m[1].str(), "3");
-  EXPECT_EQ(m[2].str(), "3") << "every image decodes";
+  EXPECT_EQ(m[1].str(), "6");
+  EXPECT_EQ(m[2].str(), "6") << "every image decodes";
   EXPECT_GE(std::stoi(m[3].str()), 1) << "the report's table is in the page";
 }
 

@@ -146,6 +146,26 @@ TEST(ReportSchema, CompareOnARealLogAgainstAReference) {
   EXPECT_EQ(report["protocol"]["reference"], "estimate");
 }
 
+// imu-noise on the static part of PX4's sample log: the noise in SI units, measured or bounded.
+TEST(ReportSchema, ImuNoise) {
+  REQUIRE_JSONSCHEMA();
+  REQUIRE_SHARED_DATA();
+  const std::string dir = MakeTempDir();
+  const nlohmann::json report = RunAndValidate(
+      "imu-noise " + SharedDataDir() + "/px4_ulog/sample.ulg --from 8 --out " + dir + "/n",
+      dir + "/n");
+  ASSERT_FALSE(report.is_null());
+  EXPECT_EQ(report["report_kind"], "imu-noise");
+  ASSERT_EQ(report["tables"].size(), 2u);
+  const auto& gyro = report["tables"][0];
+  EXPECT_EQ(gyro["columns"][1]["unit"], "rad/s/sqrt(Hz)") << gyro.dump();
+  // The white noise of the static gyroscope is measured, at the MEMS level (1e-5..1e-3).
+  const auto& yaml_row = gyro["rows"][3];
+  EXPECT_EQ(yaml_row[2], "measured") << yaml_row.dump();
+  EXPECT_GT(yaml_row[1].get<double>(), 1e-5);
+  EXPECT_LT(yaml_row[1].get<double>(), 1e-3);
+}
+
 TEST(ReportSchema, SweepAndSweepMerge) {
   REQUIRE_JSONSCHEMA();
   const std::string dir = MakeTempDir();

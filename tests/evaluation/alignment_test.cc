@@ -10,6 +10,7 @@
 #include "core/random.h"
 #include "core/rotation.h"
 #include "evaluation/association.h"
+#include "evaluation/trajectory_evaluation.h"
 #include "evaluation/trajectory_metrics.h"
 
 namespace mavloc {
@@ -38,9 +39,15 @@ std::vector<StampedPose> Transform(const std::vector<StampedPose>& gt, const Sim
   return est;
 }
 
-std::vector<PosePair> Pairs(const std::vector<StampedPose>& est,
-                            const std::vector<StampedPose>& gt) {
-  return AssociatePoses(est, gt, 1e-3);
+// The APE of the one trajectory-error engine, nearest association within 1 ms, no RPE.
+std::optional<TrajectoryEvaluation> Ate(const std::vector<StampedPose>& est,
+                                        const std::vector<StampedPose>& gt, AlignmentMode mode) {
+  EvaluationProtocol protocol;
+  protocol.max_dt_s = 1e-3;
+  protocol.alignment = mode;
+  protocol.rpe_deltas.clear();
+  protocol.relative_length_fractions.clear();
+  return EvaluateTrajectory(est, gt, protocol);
 }
 
 TEST(Alignment, Se3RecoversARigidTransform) {
@@ -50,15 +57,14 @@ TEST(Alignment, Se3RecoversARigidTransform) {
     Similarity S;
     S.R = ExpSO3(rng.Gaussian3(1.0));
     S.t = rng.Gaussian3(5.0);
-    const auto pairs = Pairs(Transform(gt, S), gt);
-    ASSERT_EQ(pairs.size(), gt.size());
-    const auto ate = ComputeAte(pairs, AlignmentMode::kSe3);
+    const auto ate = Ate(Transform(gt, S), gt, AlignmentMode::kSe3);
     ASSERT_TRUE(ate.has_value());
+    ASSERT_EQ(ate->pair_count, gt.size());
     EXPECT_NEAR((ate->alignment.R - S.R).norm(), 0.0, 1e-9);
     EXPECT_NEAR((ate->alignment.t - S.t).norm(), 0.0, 1e-9);
     EXPECT_DOUBLE_EQ(ate->alignment.scale, 1.0);
-    EXPECT_LT(ate->translation_m.max, 1e-9);
-    EXPECT_LT(ate->rotation_rad.max, 1e-9);
+    EXPECT_LT(ate->ape_translation_m.max, 1e-9);
+    EXPECT_LT(ate->ape_rotation_deg.max * kDeg, 1e-9);
   }
 }
 
@@ -70,13 +76,13 @@ TEST(Alignment, Sim3RecoversTheScale) {
     S.R = ExpSO3(rng.Gaussian3(1.0));
     S.t = rng.Gaussian3(5.0);
     S.scale = rng.Uniform(0.2, 5.0);
-    const auto ate = ComputeAte(Pairs(Transform(gt, S), gt), AlignmentMode::kSim3);
+    const auto ate = Ate(Transform(gt, S), gt, AlignmentMode::kSim3);
     ASSERT_TRUE(ate.has_value());
     EXPECT_NEAR(ate->alignment.scale, S.scale, 1e-9 * S.scale);
     EXPECT_NEAR((ate->alignment.R - S.R).norm(), 0.0, 1e-9);
-    EXPECT_LT(ate->translation_m.max, 1e-9);
+    EXPECT_LT(ate->ape_translation_m.max, 1e-9);
     // se3 cannot absorb the scale.
-    EXPECT_GT(ComputeAte(Pairs(Transform(gt, S), gt), AlignmentMode::kSe3)->translation_m.rmse,
+    EXPECT_GT(Ate(Transform(gt, S), gt, AlignmentMode::kSe3)->ape_translation_m.rmse,
               std::abs(S.scale - 1.0) > 0.1 ? 1e-3 : 0.0);
   }
 }
@@ -89,16 +95,16 @@ TEST(Alignment, PosYawRecoversYawAndTranslationAndKeepsRollPitch) {
     S.R = Rz(rng.Uniform(-M_PI, M_PI));
     S.t = rng.Gaussian3(3.0);
     const auto est = Transform(gt, S);
-    const auto ate = ComputeAte(Pairs(est, gt), AlignmentMode::kPosYaw);
+    const auto ate = Ate(est, gt, AlignmentMode::kPosYaw);
     ASSERT_TRUE(ate.has_value());
     EXPECT_NEAR((ate->alignment.R - S.R).norm(), 0.0, 1e-9);
-    EXPECT_LT(ate->translation_m.max, 1e-9);
+    EXPECT_LT(ate->ape_translation_m.max, 1e-9);
     // Even against a full 3-D rotation offset, posyaw only rotates about z: roll and pitch of the
     // aligned estimate equal the estimate's own.
     Similarity tilted;
     tilted.R = ExpSO3(rng.Gaussian3(0.5));
     const auto est2 = Transform(gt, tilted);
-    const auto ate2 = ComputeAte(Pairs(est2, gt), AlignmentMode::kPosYaw);
+    const auto ate2 = Ate(est2, gt, AlignmentMode::kPosYaw);
     ASSERT_TRUE(ate2.has_value());
     EXPECT_NEAR(ate2->alignment.R(2, 2), 1.0, 1e-12);
     for (const auto& pose : est2) {
@@ -132,7 +138,7 @@ TEST(Ate, StatisticsMatchAnIndependentComputation) {
     pose.T_W_B.p += offset;
     errors.push_back(offset.norm());
   }
-  const auto ate = ComputeAte(Pairs(est, gt), AlignmentMode::kNone);
+  const auto ate = Ate(est, gt, AlignmentMode::kNone);
   ASSERT_TRUE(ate.has_value());
   // Independent computation.
   const double n = errors.size();
@@ -146,13 +152,13 @@ TEST(Ate, StatisticsMatchAnIndependentComputation) {
   const double mean = sum / n;
   double var = 0;
   for (double e : errors) var += (e - mean) * (e - mean);
-  EXPECT_NEAR(ate->translation_m.rmse, std::sqrt(sum_sq / n), 1e-12);
-  EXPECT_NEAR(ate->translation_m.mean, mean, 1e-12);
-  EXPECT_NEAR(ate->translation_m.median, sorted[25], 1e-12);
-  EXPECT_NEAR(ate->translation_m.std, std::sqrt(var / n), 1e-12);
-  EXPECT_NEAR(ate->translation_m.min, sorted.front(), 1e-12);
-  EXPECT_NEAR(ate->translation_m.max, sorted.back(), 1e-12);
-  EXPECT_EQ(ate->translation_m.count, 51u);
+  EXPECT_NEAR(ate->ape_translation_m.rmse, std::sqrt(sum_sq / n), 1e-12);
+  EXPECT_NEAR(ate->ape_translation_m.mean, mean, 1e-12);
+  EXPECT_NEAR(ate->ape_translation_m.median, sorted[25], 1e-12);
+  EXPECT_NEAR(ate->ape_translation_m.std, std::sqrt(var / n), 1e-12);
+  EXPECT_NEAR(ate->ape_translation_m.min, sorted.front(), 1e-12);
+  EXPECT_NEAR(ate->ape_translation_m.max, sorted.back(), 1e-12);
+  EXPECT_EQ(ate->ape_translation_m.count, 51u);
 }
 
 TEST(Association, InterpolatesPositionsAndSlerpsRotations) {
@@ -191,14 +197,21 @@ TEST(Rpe, ExactForAConstantRelativeError) {
         {i * 10'000'000LL, Pose(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.101 * i, 0, 0))});
   }
   const auto pairs = AssociatePoses(est, gt, 1e-3);
-  const auto rpe = ComputeRpe(pairs, RpeWindow::kDistance, 1.0);
+  auto rpe_over = [&](double delta, DeltaUnit unit) {
+    RpeDelta window;
+    window.delta = delta;
+    window.unit = unit;
+    window.pairs_from_reference = true;  // 1 m along the truth
+    return ComputeRpeEvo(pairs, window);
+  };
+  const auto rpe = rpe_over(1.0, DeltaUnit::kMetres);
   ASSERT_TRUE(rpe.has_value());
   EXPECT_NEAR(rpe->translation_m.mean, 0.01, 1e-9);
   EXPECT_NEAR(rpe->translation_m.max, 0.01, 1e-9);
-  const auto rpe_time = ComputeRpe(pairs, RpeWindow::kTime, 0.5);  // 50 samples = 5 m
+  const auto rpe_time = rpe_over(0.5, DeltaUnit::kSeconds);  // 50 samples = 5 m
   ASSERT_TRUE(rpe_time.has_value());
   EXPECT_NEAR(rpe_time->translation_m.mean, 0.05, 1e-9);
-  EXPECT_FALSE(ComputeRpe(pairs, RpeWindow::kDistance, 100.0).has_value());
+  EXPECT_FALSE(rpe_over(100.0, DeltaUnit::kMetres).has_value());
 }
 
 }  // namespace

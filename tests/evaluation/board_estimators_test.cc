@@ -113,11 +113,16 @@ Comparison Compare(const std::string& name, const Dataset& world, const Dataset&
   Comparison c;
   EXPECT_FALSE(on_world.T_W_M.has_value()) << name;
   // Frames whose pose in M is the same (to 1 mm, the LM stop) on both datasets.
-  if (on_board.T_W_M && on_world.poses.size() == on_board.poses.size()) {
+  // Matched by stamp: a frame posed on one dataset only counts as different.
+  if (on_board.T_W_M) {
+    std::map<TimeNs, Pose> board_poses;
+    for (const auto& pose : on_board.poses) board_poses[pose.t_ns] = pose.T_W_B;
     int same = 0;
-    for (size_t i = 0; i < on_world.poses.size(); ++i) {
-      const Pose a = T_M_W * on_world.poses[i].T_W_B;
-      const Pose b = on_board.T_W_M->Inverse() * on_board.poses[i].T_W_B;
+    for (const auto& pose : on_world.poses) {
+      const auto it = board_poses.find(pose.t_ns);
+      if (it == board_poses.end()) continue;
+      const Pose a = T_M_W * pose.T_W_B;
+      const Pose b = on_board.T_W_M->Inverse() * it->second;
       same += (a.p - b.p).norm() < 1e-3 ? 1 : 0;
     }
     c.same_pose_fraction = static_cast<double>(same) / std::max<size_t>(1, on_world.poses.size());

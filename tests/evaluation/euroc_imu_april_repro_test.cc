@@ -14,6 +14,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/rotation.h"
 #include "tests/test_support.h"
 
 namespace mavloc {
@@ -56,8 +57,8 @@ TEST(EurocImuAprilRepro, TwelveSecondExcerptAgreesWithTheOfficialCalibration) {
     EXPECT_NEAR(solution["board_roll_deg"].get<double>(), 77.0, 1.0) << run;
   }
   // Two independent solutions (cam0 only, cam1 only) agree on the body trajectory.
-  EXPECT_LT(tables["cam0_vs_cam1_trajectories"]["position_rms_mm"].get<double>(), 10.0);
-  EXPECT_LT(tables["cam0_vs_cam1_trajectories"]["rotation_rms_deg"].get<double>(), 0.5);
+  EXPECT_LT(tables["cam0_vs_cam1_trajectories"]["position_rms_m"].get<double>(), 0.010);
+  EXPECT_LT(tables["cam0_vs_cam1_trajectories"]["rotation_rms_rad"].get<double>(), 0.5 * kDeg);
 }
 
 }  // namespace

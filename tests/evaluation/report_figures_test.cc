@@ -223,12 +223,14 @@ TEST(ReportFigures, EvalFolderGetsTrajectoryErrorAndRelativeErrorFigures) {
   const FigureOutcome outcome = WriteReportFigures(dir);
   EXPECT_TRUE(outcome.ok()) << outcome.reason;
   EXPECT_EQ(outcome.kind, ReportKind::kEval);
-  ASSERT_EQ(outcome.figures, (std::vector<std::string>{"trajectory.png", "errors_over_time.png",
-                                                       "relative_errors.png"}));
+  ASSERT_EQ(outcome.figures,
+            (std::vector<std::string>{"trajectory.png", "trajectory_ape.png",
+                                      "trajectory_xyz_rpy.png", "errors_over_time.png",
+                                      "ape_over_time.png", "relative_errors.png"}));
   for (const auto& figure : outcome.figures) ExpectPng(dir + "/" + figure);
   const std::string html = ReadAll(dir + "/report.html");
   EXPECT_EQ(outcome.html_path, dir + "/report.html");
-  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,"), 3u);
+  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,"), 6u);
   EXPECT_NE(html.find("<td style=\"text-align:right\">0.0500</td>"), std::string::npos);
   EXPECT_NE(html.find("Monte-Carlo"), std::string::npos) << "the runs of lio have an envelope";
   // Self-contained: nothing is fetched (no http(s) resource, no external src).
@@ -245,11 +247,13 @@ TEST(ReportFigures, CompareFolderGetsErrorsBoxplotsAndTrajectories) {
   const std::string dir = SampleCompareFolder();
   const FigureOutcome outcome = WriteReportFigures(dir);
   EXPECT_TRUE(outcome.ok()) << outcome.reason;
-  ASSERT_EQ(outcome.figures, (std::vector<std::string>{"errors_over_time.png", "error_boxplots.png",
-                                                       "trajectory.png"}));
+  ASSERT_EQ(outcome.figures,
+            (std::vector<std::string>{"errors_over_time.png", "error_boxplots.png",
+                                      "trajectory.png", "trajectory_ape.png", "ape_over_time.png",
+                                      "trajectory_xyz_rpy.png"}));
   for (const auto& figure : outcome.figures) ExpectPng(dir + "/" + figure);
   const std::string html = ReadAll(dir + "/report.html");
-  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,"), 3u);
+  EXPECT_EQ(Count(html, "src=\"data:image/png;base64,"), 6u);
   EXPECT_NE(html.find("<h1>mavloc compare: sample</h1>"), std::string::npos);
   EXPECT_NE(html.find("<a href=\"errors.csv\">errors.csv</a>"), std::string::npos);
 }

@@ -1,6 +1,4 @@
-#include "cli/eval_report.h"
-
-#include "evaluation/report/report_protocol.h"
+#include "evaluation/eval/eval_report.h"
 
 #include <fmt/format.h>
 
@@ -8,19 +6,21 @@
 #include <numeric>
 
 #include "datasets/io/tum_io.h"
+#include "evaluation/report/latex.h"
+#include "evaluation/report/report_protocol.h"
 
-namespace mavloc::cli {
+namespace mavloc {
 
 namespace {
 
-struct Aggregate {
+struct RunAggregate {
   double mean = 0.0;
   double std = 0.0;  // sample standard deviation (n - 1); 0 for one run
   size_t n = 0;
 };
 
-Aggregate Summarise(const std::vector<double>& values) {
-  Aggregate a;
+RunAggregate SummariseRuns(const std::vector<double>& values) {
+  RunAggregate a;
   a.n = values.size();
   if (values.empty()) return a;
   a.mean = std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(a.n);
@@ -32,18 +32,18 @@ Aggregate Summarise(const std::vector<double>& values) {
   return a;
 }
 
-std::string Sig(double value) {
+std::string SigDigits(double value) {
   if (!std::isfinite(value)) return "-";
   return fmt::format("{:.4g}", value);
 }
 
-std::string Cell(const Aggregate& a, const char* plus_minus) {
+std::string RunCell(const RunAggregate& a, const char* plus_minus) {
   if (a.n == 0 || !std::isfinite(a.mean)) return "-";
-  if (a.n == 1) return Sig(a.mean);
-  return Sig(a.mean) + plus_minus + Sig(a.std);
+  if (a.n == 1) return SigDigits(a.mean);
+  return SigDigits(a.mean) + plus_minus + SigDigits(a.std);
 }
 
-double Mean(const std::vector<double>& v) {
+double RunMean(const std::vector<double>& v) {
   if (v.empty()) return std::nan("");
   return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
 }
@@ -88,8 +88,8 @@ void PooledRelative(const TrajectoryEvaluation& e, double* translation_pct,
     t.insert(t.end(), length.translation_percent.begin(), length.translation_percent.end());
     r.insert(r.end(), length.rotation_deg_per_m.begin(), length.rotation_deg_per_m.end());
   }
-  *translation_pct = Mean(t);
-  *rotation_deg_m = Mean(r);
+  *translation_pct = RunMean(t);
+  *rotation_deg_m = RunMean(r);
 }
 
 nlohmann::json StatsJson(const ErrorStatistics& s) {
@@ -182,24 +182,14 @@ nlohmann::json InputJson(const TrajectoryReadReport& r) {
           {"crlf", r.had_crlf}};
 }
 
-std::string LatexEscape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    if (c == '_' || c == '%' || c == '&' || c == '#' || c == '$' || c == '{' || c == '}')
-      out += '\\';
-    out += c;
-  }
-  return out;
-}
-
-struct Table {
-  std::vector<std::string> titles;           // metric titles
-  std::vector<std::string> keys;             // metric keys
-  std::vector<std::vector<Aggregate>> rows;  // per estimate, per metric
+struct EvalTable {
+  std::vector<std::string> titles;              // metric titles
+  std::vector<std::string> keys;                // metric keys
+  std::vector<std::vector<RunAggregate>> rows;  // per estimate, per metric
 };
 
-Table BuildTable(const EvalReport& report) {
-  Table table;
+EvalTable BuildTable(const EvalReport& report) {
+  EvalTable table;
   for (const auto& estimate : report.estimates) {
     std::vector<std::vector<double>> columns;
     for (const auto& run : estimate.runs) {
@@ -213,15 +203,15 @@ Table BuildTable(const EvalReport& report) {
       for (size_t k = 0; k < metrics.size() && k < columns.size(); ++k)
         if (std::isfinite(metrics[k].value)) columns[k].push_back(metrics[k].value);
     }
-    std::vector<Aggregate> row;
-    for (const auto& c : columns) row.push_back(Summarise(c));
+    std::vector<RunAggregate> row;
+    for (const auto& c : columns) row.push_back(SummariseRuns(c));
     table.rows.push_back(row);
   }
   return table;
 }
 
 std::string MarkdownTableText(const EvalReport& report) {
-  const Table table = BuildTable(report);
+  const EvalTable table = BuildTable(report);
   std::string text = "| estimate | runs |";
   std::string rule = "| --- | ---: |";
   for (const auto& t : table.titles) {
@@ -231,7 +221,7 @@ std::string MarkdownTableText(const EvalReport& report) {
   text += "\n" + rule + "\n";
   for (size_t e = 0; e < report.estimates.size(); ++e) {
     text += fmt::format("| {} | {} |", report.estimates[e].label, report.estimates[e].runs.size());
-    for (const auto& a : table.rows[e]) text += fmt::format(" {} |", Cell(a, " ± "));
+    for (const auto& a : table.rows[e]) text += fmt::format(" {} |", RunCell(a, " ± "));
     text += "\n";
   }
   return text;
@@ -337,12 +327,12 @@ std::string EvalMarkdown(const EvalReport& report) {
         const auto& rel = run.evaluation.relative[k];
         segments += rel.count();
         if (rel.count() == 0) continue;
-        t.push_back(Mean(rel.translation_percent));
-        r.push_back(Mean(rel.rotation_deg_per_m));
+        t.push_back(RunMean(rel.translation_percent));
+        r.push_back(RunMean(rel.rotation_deg_per_m));
       }
       md += fmt::format("| {} | {:g} | {} | {} | {} |\n", e.label,
-                        report.protocol.relative_lengths_m[k], segments, Cell(Summarise(t), " ± "),
-                        Cell(Summarise(r), " ± "));
+                        report.protocol.relative_lengths_m[k], segments,
+                        RunCell(SummariseRuns(t), " ± "), RunCell(SummariseRuns(r), " ± "));
     }
   }
   std::string diagnostics;
@@ -356,7 +346,7 @@ std::string EvalMarkdown(const EvalReport& report) {
 }
 
 std::string EvalLatex(const EvalReport& report) {
-  const Table table = BuildTable(report);
+  const EvalTable table = BuildTable(report);
   // One 'r' column per metric; plain \\hline rules (no package needed).
   std::string tex =
       "% mavloc eval: mean $\\pm$ sample std over runs (protocol in "
@@ -369,7 +359,7 @@ std::string EvalLatex(const EvalReport& report) {
     tex += LatexEscape(report.estimates[e].label) +
            fmt::format(" & {}", report.estimates[e].runs.size());
     for (const auto& a : table.rows[e]) {
-      const std::string cell = Cell(a, " \\pm ");
+      const std::string cell = RunCell(a, " \\pm ");
       tex += " & " + (a.n > 1 ? "$" + cell + "$" : cell);
     }
     tex += " \\\\\n";
@@ -484,7 +474,7 @@ nlohmann::json EvalJson(const EvalReport& report) {
     }
     nlohmann::json summary;
     for (const auto& key : order) {
-      const Aggregate a = Summarise(values[key]);
+      const RunAggregate a = SummariseRuns(values[key]);
       summary[key] = {{"mean", a.mean}, {"std", a.std}, {"runs", a.n}};
     }
     e["summary"] = summary;
@@ -602,4 +592,4 @@ std::map<std::string, std::string> EvalReportFiles(const EvalReport& report) {
   return files;
 }
 
-}  // namespace mavloc::cli
+}  // namespace mavloc

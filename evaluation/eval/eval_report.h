@@ -17,35 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "datasets/io/trajectory_formats/trajectory_format.h"
+#include "evaluation/eval/eval_run.h"
 #include "evaluation/report/report.h"
-#include "evaluation/trajectory_evaluation.h"
 
-namespace mavloc::cli {
-
-struct EvalRun {
-  int run = 0;  // 1..n in a runs folder, 0 for a single file
-  std::string file;
-  TrajectoryReadReport input;
-  bool by_index = false;  // KITTI without times: associated by index (evo)
-  TrajectoryEvaluation evaluation;
-  std::vector<StampedPose> aligned_estimate;  // in the truth's frame, time offset applied
-};
-
-struct EvalEstimate {
-  std::string label;
-  std::string source;  // the --est argument (file or folder)
-  bool is_folder = false;
-  std::vector<EvalRun> runs;
-};
-
-struct EvalReport {
-  TrajectoryReadReport truth;
-  std::vector<StampedPose> truth_poses;
-  EvaluationProtocol protocol;  // as resolved (relative lengths filled in)
-  bool relative_lengths_given = false;
-  std::vector<EvalEstimate> estimates;
-};
+namespace mavloc {
 
 // The metrics of the table, per run (name, unit, value); the same list for every run.
 struct MetricValue {
@@ -68,4 +43,4 @@ Report EvalModel(const EvalReport& report);
 // estimate_<label>[_run<k>].tum
 std::string EstimateFileName(const EvalEstimate& estimate, const EvalRun& run);
 
-}  // namespace mavloc::cli
+}  // namespace mavloc

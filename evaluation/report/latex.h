@@ -1,0 +1,11 @@
+// Text for LaTeX tables (eval.tex, the matrix's table.tex).
+#pragma once
+
+#include <string>
+
+namespace mavloc {
+
+// Escapes the characters LaTeX treats specially in running text: _ % & # $ { }.
+std::string LatexEscape(const std::string& text);
+
+}  // namespace mavloc
