@@ -25,6 +25,7 @@
 #include "evaluation/imu_noise/imu_noise_report.h"
 #include "evaluation/imu_noise/noise_fit.h"
 #include "evaluation/report/report_folder.h"
+#include "evaluation/report_figures.h"
 
 namespace mavloc::cli {
 namespace {
@@ -169,6 +170,7 @@ void RunImuNoise(const ImuNoiseArgs& args) {
   WriteReport(
       out.path(),
       ImuNoiseReport({input.source, input.rostopic, WindowText(args), input.notes}, fit, curves));
+  const FigureOutcome figures = WriteReportFigures(out.path(), out.ForUser(out.path()));
   out.Commit();
   std::printf("%s: %s", PrintableMessage(input.source).c_str(), ImuNoiseTable(fit, curves).c_str());
   for (const std::string& note : input.notes)
@@ -181,8 +183,8 @@ void RunImuNoise(const ImuNoiseArgs& args) {
       fit.gyro.random_walk.measured ? "" : "<= ", kalibr.gyroscope_random_walk,
       fit.accel.white.measured ? "" : "<= ", kalibr.accelerometer_noise_density,
       fit.accel.random_walk.measured ? "" : "<= ", kalibr.accelerometer_random_walk);
-  std::printf("wrote %s: report.md, report.json, imu.yaml, allan_deviation.csv\n",
-              args.out.c_str());
+  std::printf("wrote %s: report.md, report.json, imu.yaml, allan_deviation.csv\n%s\n",
+              args.out.c_str(), out.ForUser(DescribeFigureOutcome(figures)).c_str());
 }
 
 }  // namespace

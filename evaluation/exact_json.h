@@ -5,11 +5,13 @@
 //   constexpr auto ExactFields(std::type_identity<Sums>) {
 //     return std::make_tuple(ExactField("sum", &Sums::sum), ExactField("count", &Sums::count));
 //   }
-// Fields may be doubles, integers, strings, standard containers of them, or structs that list
-// their own fields.
+// Fields may be doubles, integers, booleans, strings, standard containers of them, structs that
+// list their own fields, and maps from strings to any of these.
 #pragma once
 
+#include <map>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <tuple>
 #include <type_traits>
 #include <vector>
@@ -41,12 +43,26 @@ T FromExactJson(const nlohmann::json& json);
 
 namespace exact_json_detail {
 
+template <class>
+struct IsStringMap : std::false_type {};
+template <class V>
+struct IsStringMap<std::map<std::string, V>> : std::true_type {};
+
+template <class V>
+nlohmann::json Write(const V& value);
+template <class V>
+V Read(const nlohmann::json& json);
+
 template <class V>
 nlohmann::json Write(const V& value) {
   if constexpr (std::is_floating_point_v<V>) {
     return JsonNumber(value);
   } else if constexpr (std::is_same_v<V, std::vector<double>>) {
     return JsonNumbers(value);
+  } else if constexpr (IsStringMap<V>::value) {
+    nlohmann::json object = nlohmann::json::object();
+    for (const auto& [key, item] : value) object[key] = Write(item);
+    return object;
   } else if constexpr (HasExactFields<V>) {
     return ToExactJson(value);
   } else {
@@ -60,6 +76,11 @@ V Read(const nlohmann::json& json) {
     return NumberFromJson(json);
   } else if constexpr (std::is_same_v<V, std::vector<double>>) {
     return NumbersFromJson(json);
+  } else if constexpr (IsStringMap<V>::value) {
+    V out;
+    for (const auto& [key, item] : json.items())
+      out.emplace(key, Read<typename V::mapped_type>(item));
+    return out;
   } else if constexpr (HasExactFields<V>) {
     return FromExactJson<V>(json);
   } else {

@@ -199,6 +199,8 @@ std::string ReportKindName(ReportKind kind) {
       return "obstacles";
     case ReportKind::kMatrix:
       return "matrix";
+    case ReportKind::kImuNoise:
+      return "imu-noise";
     case ReportKind::kUnknown:
       break;
   }
@@ -213,8 +215,9 @@ ReportKind DetectReportKind(const std::string& report_dir) {
     if (!json.is_object() || !json.contains("report_kind") || !json["report_kind"].is_string())
       continue;
     const std::string kind = json["report_kind"].get<std::string>();
-    for (const ReportKind k : {ReportKind::kEval, ReportKind::kCompare, ReportKind::kRepro,
-                               ReportKind::kSweep, ReportKind::kObstacles, ReportKind::kMatrix})
+    for (const ReportKind k :
+         {ReportKind::kEval, ReportKind::kCompare, ReportKind::kRepro, ReportKind::kSweep,
+          ReportKind::kObstacles, ReportKind::kMatrix, ReportKind::kImuNoise})
       if (kind == ReportKindName(k)) return k;
   }
   return ReportKind::kUnknown;

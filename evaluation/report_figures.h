@@ -17,9 +17,9 @@ namespace mavloc {
 // What the folder holds, as its report.json (or eval.json) declares in "report_kind": eval
 // (`mavloc eval --out DIR`), compare, repro, sweep, obstacles or matrix. A folder without such a
 // file is no report, whatever other files it holds.
-enum class ReportKind { kUnknown, kEval, kCompare, kRepro, kSweep, kObstacles, kMatrix };
+enum class ReportKind { kUnknown, kEval, kCompare, kRepro, kSweep, kObstacles, kMatrix, kImuNoise };
 
-// "eval", "compare", "repro", "sweep", "obstacles", "matrix", "unknown"
+// "eval", "compare", "repro", "sweep", "obstacles", "matrix", "imu-noise", "unknown"
 std::string ReportKindName(ReportKind kind);
 ReportKind DetectReportKind(const std::string& report_dir);
 

@@ -17,6 +17,7 @@
 #include "core/rotation.h"
 #include "datasets/scenarios/euroc_laser.h"
 #include "datasets/scenarios/laser_plane.h"
+#include "evaluation/exact_json.h"
 #include "evaluation/json_number.h"
 #include "evaluation/quantity_errors.h"
 #include "evaluation/report_writer.h"
@@ -256,31 +257,20 @@ void AppendCsv(const TableResult& table, std::string* csv) {
   }
 }
 
-// A run's result as JSON and back (a unit's result on the sweep machinery; NaN as null).
-nlohmann::json RunJson(const RunResult& run) {
-  nlohmann::json quantities = nlohmann::json::object();
-  for (const auto& [name, q] : run.quantities)
-    quantities[name] = {{"convergence_s", JsonNumber(q.convergence_s)},
-                        {"mae_after", JsonNumber(q.mae_after)},
-                        {"final_error", JsonNumber(q.final_error)},
-                        {"mae_all", JsonNumber(q.mae_all)},
-                        {"mae_late", JsonNumber(q.mae_late)}};
-  return {{"seed", run.seed},         {"converged", run.converged}, {"duration_s", run.duration_s},
-          {"quantities", quantities}, {"failures", run.failures},   {"note", run.note}};
+// A run's result as exact JSON (a unit's result on the sweep machinery; evaluation/exact_json.h).
+constexpr auto ExactFields(std::type_identity<QuantityResult>) {
+  return std::make_tuple(ExactField("convergence_s", &QuantityResult::convergence_s),
+                         ExactField("mae_after", &QuantityResult::mae_after),
+                         ExactField("final_error", &QuantityResult::final_error),
+                         ExactField("mae_all", &QuantityResult::mae_all),
+                         ExactField("mae_late", &QuantityResult::mae_late));
 }
-
-RunResult RunFromJson(const nlohmann::json& j) {
-  RunResult run;
-  run.seed = j.at("seed").get<uint64_t>();
-  run.converged = j.at("converged").get<bool>();
-  run.duration_s = j.at("duration_s").get<double>();
-  run.failures = j.at("failures").get<int>();
-  run.note = j.at("note").get<std::string>();
-  for (const auto& [name, q] : j.at("quantities").items())
-    run.quantities[name] = {NumberFromJson(q.at("convergence_s")),
-                            NumberFromJson(q.at("mae_after")), NumberFromJson(q.at("final_error")),
-                            NumberFromJson(q.at("mae_all")), NumberFromJson(q.at("mae_late"))};
-  return run;
+constexpr auto ExactFields(std::type_identity<RunResult>) {
+  return std::make_tuple(
+      ExactField("seed", &RunResult::seed), ExactField("converged", &RunResult::converged),
+      ExactField("duration_s", &RunResult::duration_s),
+      ExactField("quantities", &RunResult::quantities),
+      ExactField("failures", &RunResult::failures), ExactField("note", &RunResult::note));
 }
 
 // The `--set` settings, parsed the same way in the report's process and in every sweep worker.
@@ -343,7 +333,7 @@ nlohmann::json LaserUnitResult(const LaserSettings& settings, const std::string&
     scenario.duration_s = settings.duration_s;
     scenario.settings["bias"] = unit == kBiasUnit ? "true" : "false";
     runs.push_back(
-        RunJson(EvaluateRun(GenerateLaserPlane(scenario), raw_options, settings.bands, seed)));
+        ToExactJson(EvaluateRun(GenerateLaserPlane(scenario), raw_options, settings.bands, seed)));
     return {{"runs", runs}};
   }
   if (unit != kEurocUnit) throw InputError("repro laser: no unit '" + unit + "'");
@@ -351,11 +341,11 @@ nlohmann::json LaserUnitResult(const LaserSettings& settings, const std::string&
   const Dataset dataset = GenerateEurocLaser(scenario);
   EstimatorOptions corrected_options = raw_options;
   corrected_options.Set("bias_from_ground_truth", "true");
-  runs.push_back(RunJson(EvaluateRun(dataset, raw_options, settings.bands, seed)));
-  runs.push_back(RunJson(EvaluateRun(dataset, corrected_options, settings.bands, seed)));
+  runs.push_back(ToExactJson(EvaluateRun(dataset, raw_options, settings.bands, seed)));
+  runs.push_back(ToExactJson(EvaluateRun(dataset, corrected_options, settings.bands, seed)));
   scenario.settings["imu"] = "from_ground_truth";
   runs.push_back(
-      RunJson(EvaluateRun(GenerateEurocLaser(scenario), raw_options, settings.bands, seed)));
+      ToExactJson(EvaluateRun(GenerateEurocLaser(scenario), raw_options, settings.bands, seed)));
   return {{"runs", runs}, {"distance_range_m", dataset.scenario_info.at("distance_range_m")}};
 }
 
@@ -400,7 +390,7 @@ int RunLaserRepro(const ReproOptions& options) {
     const size_t u = grid.indices[i] / static_cast<size_t>(runs);
     const nlohmann::json& unit_runs = results[i].at("runs");
     for (size_t r = 0; r < unit_runs.size(); ++r)
-      tables[u == 2 ? 2 + r : u].runs.push_back(RunFromJson(unit_runs[r]));
+      tables[u == 2 ? 2 + r : u].runs.push_back(FromExactJson<RunResult>(unit_runs[r]));
     if (u == 2 && euroc_note.empty()) euroc_note = results[i].at("distance_range_m");
   }
 

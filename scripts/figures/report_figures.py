@@ -1359,10 +1359,22 @@ def quantity_stats(entry):
                             and all(isinstance(x, (int, float)) for x in v)), None)
             if stat is None and per_run is None:
                 continue
-            result[q] = (s.get("unit", ""), stat, s.get(stat) if stat else None,
-                         s.get("paper") if isinstance(s.get("paper"), (int, float)) else None,
-                         per_run)
+            unit, scale = display_unit(s.get("unit", ""))
+            value = s.get(stat) if stat else None
+            paper = s.get("paper") if isinstance(s.get("paper"), (int, float)) else None
+            result[q] = (unit, stat, None if value is None else value * scale,
+                         None if paper is None else paper * scale,
+                         None if per_run is None else [x * scale for x in per_run])
     return result
+
+
+def display_unit(unit):
+    """report.json holds SI units; angles are drawn in degrees, as the tables show them."""
+    if unit == "rad":
+        return "deg", 180.0 / math.pi
+    if unit == "rad/s":
+        return "deg/s", 180.0 / math.pi
+    return unit, 1.0
 
 
 def repro_json_figure(out, path, estimators, index):
@@ -1564,12 +1576,64 @@ def detect_kind(folder):
     return "unknown"
 
 
+def imu_noise_figures(out, folder):
+    """Allan deviation of the six axes (log-log), 68 % confidence bands, and the lines of the
+    fitted white noise (slope -1/2) and random walk (slope +1/2) of the value in imu.yaml."""
+    header, rows = read_csv(os.path.join(folder, "allan_deviation.csv"))
+    col = {h: i for i, h in enumerate(header)}
+    if not rows or "tau_s" not in col:
+        return
+    tau = np.array([to_float(r[col["tau_s"]]) for r in rows])
+    report = {}
+    try:
+        with open(os.path.join(folder, "report.json"), encoding="utf-8") as f:
+            report = json.load(f)
+    except (OSError, ValueError):
+        pass
+    tables = {t.get("name"): t for t in report.get("tables", []) if isinstance(t, dict)}
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
+    for ax, sensor, unit, name in ((axes[0], "gyro", "rad_s", "gyroscope"),
+                                   (axes[1], "accel", "m_s2", "accelerometer")):
+        for axis, color in zip("xyz", ("tab:red", "tab:green", "tab:blue")):
+            key = f"{sensor}_{axis}_adev_{unit}"
+            if key not in col:
+                continue
+            adev = np.array([to_float(r[col[key]]) for r in rows])
+            low = np.array([to_float(r[col[f"{sensor}_{axis}_low_{unit}"]]) for r in rows])
+            high = np.array([to_float(r[col[f"{sensor}_{axis}_high_{unit}"]]) for r in rows])
+            ax.loglog(tau, adev, color=color, label=f"{axis}")
+            ax.fill_between(tau, low, high, color=color, alpha=0.15, linewidth=0)
+        table = tables.get(name)
+        if table and len(table.get("rows", [])) >= 4:
+            row = table["rows"][3]  # the value written to imu.yaml (largest axis)
+            white, white_kind, walk, walk_kind = row[1], row[2], row[5], row[6]
+            if isinstance(white, (int, float)) and white > 0:
+                ax.loglog(tau, white / np.sqrt(tau), "k--", linewidth=1,
+                          label=f"white noise N = {white:.3g} ({white_kind})")
+            if isinstance(walk, (int, float)) and walk > 0:
+                ax.loglog(tau, walk * np.sqrt(tau / 3.0), "k:", linewidth=1,
+                          label=f"random walk K = {walk:.3g} ({walk_kind})")
+        shown = "rad/s" if sensor == "gyro" else "m/s^2"
+        ax.set_xlabel("cluster time tau [s]")
+        ax.set_ylabel(f"Allan deviation [{shown}]")
+        ax.set_title(f"The {name}'s Allan deviation per axis", fontsize="medium")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(loc="upper left", bbox_to_anchor=(0.0, -0.15), ncol=2, fontsize="small",
+                  frameon=False)
+    fig.suptitle("Allan deviation of the IMU with 68 % confidence bands and the fitted noise")
+    out.save(fig, "allan_deviation.png",
+             "Overlapping Allan deviation of each axis (bands: 68 % confidence from the "
+             "equivalent degrees of freedom); dashed: white noise N/sqrt(tau), dotted: random walk "
+             "K sqrt(tau/3), for the values written to imu.yaml.")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("report_dir")
     parser.add_argument("--kind",
-                        choices=["eval", "compare", "repro", "sweep", "obstacles", "matrix"],
+                        choices=["eval", "compare", "repro", "sweep", "obstacles", "matrix",
+                                 "imu-noise"],
                         default=None)
     args = parser.parse_args()
     if not os.path.isdir(args.report_dir):
@@ -1577,7 +1641,7 @@ def main():
     kind = args.kind or detect_kind(args.report_dir)
     out = Figures(args.report_dir)
     {"eval": eval_figures, "compare": compare_figures, "repro": repro_figures,
-     "matrix": matrix_figures}.get(
+     "matrix": matrix_figures, "imu-noise": imu_noise_figures}.get(
         kind, lambda *_: None)(out, args.report_dir)
     if not out.written:
         print(f"report_figures: {args.report_dir} ({kind}): nothing to plot", file=sys.stderr)

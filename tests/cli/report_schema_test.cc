@@ -60,7 +60,26 @@ void ExpectWellFormedTables(const std::string& markdown, const std::string& labe
   }
 }
 
-// Runs `mavloc ARGS` (figures off), validates DIR/report.json and the tables of DIR/report.md.
+// Values in report.json are SI: no number under a key ending in a display unit, no "unit" that
+// is one, anywhere in the report (details included).
+void ExpectSiOnly(const nlohmann::json& j, const std::string& path, const std::string& label) {
+  if (!j.is_object() && !j.is_array()) return;
+  for (const auto& [key, value] : j.items()) {
+    for (const std::string suffix : {"_deg", "_mm", "_cm", "_ms", "_deg_s", "_deg_per_m"}) {
+      if (j.is_object() && key.size() > suffix.size() &&
+          key.compare(key.size() - suffix.size(), suffix.size(), suffix) == 0)
+        EXPECT_FALSE(value.is_number() || value.is_array() || value.is_object())
+            << label << ": " << path << "/" << key;
+    }
+    if (j.is_object() && key == "unit" && value.is_string())
+      for (const char* display : {"deg", "mm", "cm", "ms", "deg/s"})
+        EXPECT_NE(value.get<std::string>(), display) << label << ": " << path;
+    ExpectSiOnly(value, path + "/" + key, label);
+  }
+}
+
+// Runs `mavloc ARGS` (figures off), validates DIR/report.json (schema, SI only) and the tables of
+// DIR/report.md.
 nlohmann::json RunAndValidate(const std::string& args, const std::string& report_dir) {
   const auto run = RunCommand("MAVLOC_FIGURES=0 " + CliPath() + " " + args);
   EXPECT_EQ(run.exit_code, 0) << args << "\n" << run.output;
@@ -72,7 +91,9 @@ nlohmann::json RunAndValidate(const std::string& args, const std::string& report
                                 "/scripts/validate_report.py " + schema + " " + path);
   EXPECT_EQ(valid.exit_code, 0) << args << "\n" << valid.output;
   ExpectWellFormedTables(ReadFileBytes(report_dir + "/report.md"), args);
-  return nlohmann::json::parse(ReadFileBytes(path));
+  nlohmann::json report = nlohmann::json::parse(ReadFileBytes(path));
+  ExpectSiOnly(report, "", args);
+  return report;
 }
 
 #define REQUIRE_JSONSCHEMA() \

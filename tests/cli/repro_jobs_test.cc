@@ -147,7 +147,7 @@ TEST(ReproJobs, PixhawkGivesTheSameNumbersInTwoWorkers) {
   const nlohmann::json& kf = runs.serial["tables"]["kf"]["rows"];
   ASSERT_EQ(kf.size(), 16u) << kf.dump(1);  // 5 + 5 + 6 variants
   EXPECT_EQ(kf[0]["runs"], 2);
-  EXPECT_GT(kf[0]["position_rmse_cm"].get<double>(), 0.0);
+  EXPECT_GT(kf[0]["position_rmse_m"].get<double>(), 0.0);
   EXPECT_FALSE(runs.serial["tables"].contains("fig15"));
   ExpectSameResults(runs, dir, {"kf.csv", "report.md"});
 }

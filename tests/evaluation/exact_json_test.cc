@@ -29,12 +29,15 @@ struct Outer {
   Inner position;
   std::map<std::string, int> reasons;
   std::vector<double> samples;
+  std::map<std::string, Inner> by_quantity;
+  bool converged = false;
 };
 constexpr auto ExactFields(std::type_identity<Outer>) {
-  return std::make_tuple(ExactField("runtime_s", &Outer::runtime_s),
-                         ExactField("runs", &Outer::runs), ExactField("position", &Outer::position),
-                         ExactField("reasons", &Outer::reasons),
-                         ExactField("samples", &Outer::samples));
+  return std::make_tuple(
+      ExactField("runtime_s", &Outer::runtime_s), ExactField("runs", &Outer::runs),
+      ExactField("position", &Outer::position), ExactField("reasons", &Outer::reasons),
+      ExactField("samples", &Outer::samples), ExactField("by_quantity", &Outer::by_quantity),
+      ExactField("converged", &Outer::converged));
 }
 
 bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
@@ -50,6 +53,8 @@ TEST(ExactJson, EveryDoubleSurvivesTheTextRoundTrip) {
     value.reasons = {{"no tag", trial}, {"degenerate", 2}};
     value.samples = {0.1, 1e-310, -0.0, std::numeric_limits<double>::max(),
                      std::numeric_limits<double>::quiet_NaN()};
+    value.by_quantity = {{"alpha", {value.runtime_s / 7.0, 3}}, {"d", {-1e-17, 0}}};
+    value.converged = trial % 3 == 0;
     const Outer back = FromExactJson<Outer>(nlohmann::json::parse(ToExactJson(value).dump()));
     ASSERT_TRUE(SameBits(back.runtime_s, value.runtime_s)) << value.runtime_s;
     EXPECT_EQ(back.runs, value.runs);
@@ -60,6 +65,11 @@ TEST(ExactJson, EveryDoubleSurvivesTheTextRoundTrip) {
     for (size_t i = 0; i + 1 < value.samples.size(); ++i)
       EXPECT_TRUE(SameBits(back.samples[i], value.samples[i])) << i;
     EXPECT_TRUE(std::isnan(back.samples.back()));
+    ASSERT_EQ(back.by_quantity.size(), 2u);
+    EXPECT_TRUE(SameBits(back.by_quantity.at("alpha").sum, value.by_quantity.at("alpha").sum));
+    EXPECT_EQ(back.by_quantity.at("alpha").count, 3);
+    EXPECT_TRUE(SameBits(back.by_quantity.at("d").sum, -1e-17));
+    EXPECT_EQ(back.converged, value.converged);
   }
 }
 

@@ -144,7 +144,8 @@ TEST(LaserReproCli, SmallEndToEndRun) {
   EXPECT_EQ(json["tables"]["simulated"]["with_bias"]["runs"], 2);
   const auto& alpha = json["tables"]["simulated"]["no_bias"]["quantities"]["alpha"];
   EXPECT_EQ(alpha["per_run_final_error"].size(), 2u);
-  EXPECT_LT(alpha["mean_abs_final_error"].get<double>(), 2.0);  // deg, after 20 s
+  EXPECT_EQ(alpha["unit"], "rad");                                     // report.json is SI
+  EXPECT_LT(alpha["mean_abs_final_error"].get<double>(), 2.0 * kDeg);  // after 20 s
   EXPECT_EQ(json["tables"]["simulated"]["with_bias"]["quantities"]["alpha"]["paper"],
             "final error < 1 deg (5.1.3)");
   if (euroc) {

@@ -145,8 +145,9 @@ TEST(PixhawkReproTest, ShortRunWritesAllFourTables) {
   }
   const auto& fig15 = report["tables"]["fig15"]["rows"];
   ASSERT_EQ(fig15.size(), 2u);
-  EXPECT_TRUE(fig15[0]["position_rmse_cm"].is_number());
-  EXPECT_GT(fig15[0]["position_rmse_cm"].get<double>(), 0.0);
+  EXPECT_TRUE(fig15[0]["position_rmse_m"].is_number());  // SI in report.json
+  EXPECT_GT(fig15[0]["position_rmse_m"].get<double>(), 0.0);
+  EXPECT_FALSE(fig15[0].contains("position_rmse_cm"));
   EXPECT_EQ(report["tables"]["sweep"]["rows"].size(), 24u);
   std::ifstream md(dir + "/report.md");
   const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());

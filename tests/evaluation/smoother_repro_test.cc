@@ -71,7 +71,7 @@ TEST(SmootherReproCli, SmallEndToEndRun) {
         EXPECT_TRUE(IsFinite(e["quantity_rmse"]["pitch"]["rmse"]));
       } else {
         EXPECT_TRUE(IsFinite(e["position_rmse_m"]));
-        EXPECT_TRUE(IsFinite(e["attitude_rmse_deg"]));
+        EXPECT_TRUE(IsFinite(e["attitude_rmse_rad"]));
         EXPECT_GT(e["position_rmse_m"].get<double>(), 0.0);
         EXPECT_LT(e["position_rmse_m"].get<double>(), 1.0);  // metres: no estimator is lost
         EXPECT_EQ(e["per_run_position_rmse_m"].size(), 2u);

@@ -129,9 +129,11 @@ TEST(ThreePointRepro, SmallRunWritesBothTablesWithThePapersValues) {
   const nlohmann::json j = ReadJson(dir + "/report.json");
   const auto& t1 = j.at("tables").at("table1").at("estimators");
   EXPECT_DOUBLE_EQ(t1.at("two-point").at("quantities").at("x").at("paper").get<double>(), 4.08);
-  EXPECT_DOUBLE_EQ(t1.at("three-point").at("quantities").at("yaw").at("paper").get<double>(), 0.01);
+  EXPECT_NEAR(t1.at("three-point").at("quantities").at("yaw").at("paper").get<double>(),
+              0.01 * kDeg,
+              1e-15);  // report.json is SI
   EXPECT_EQ(t1.at("two-point").at("quantities").at("z").at("unit"), "%");
-  EXPECT_EQ(t1.at("three-point").at("quantities").at("roll").at("unit"), "deg");
+  EXPECT_EQ(t1.at("three-point").at("quantities").at("roll").at("unit"), "rad");
   for (const char* q : {"x", "y", "z", "roll", "pitch", "yaw"}) {
     const double v = t1.at("three-point").at("quantities").at(q).at("mean_abs").get<double>();
     EXPECT_TRUE(std::isfinite(v) && v > 0.0) << q;
