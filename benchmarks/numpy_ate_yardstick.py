@@ -4,7 +4,16 @@ implementation of the same computation on the same analytic trajectories -- asso
 estimate stamp with the nearest truth stamp by np.searchsorted (evo's rule: the earlier stamp on a
 tie, |dt| <= 10 ms), Umeyama alignment (se3, or posyaw: yaw about z only) and the ATE RMSE.
 
+File mode, the whole-process yardstick for `mavloc eval` (docs/performance.md): `write DIR` writes
+the same trajectories as TUM files DIR/truth_1M.txt (1,000,000 poses at 1 kHz) and
+DIR/est_500k.txt (500,000 poses at 500 Hz, stamps 0.3 ms after the truth's, the world turned by
+0.01 rad and shifted, positions wobbling by about 1 cm); `read GT EST [se3|posyaw]` reads two TUM
+files with np.loadtxt, associates, aligns and prints the APE translation RMSE, as
+`mavloc eval --gt GT --est EST --align se3` reports it.
+
 Usage: /usr/bin/python3 benchmarks/numpy_ate_yardstick.py [se3|posyaw] [repeats]
+       /usr/bin/python3 benchmarks/numpy_ate_yardstick.py write DIR
+       /usr/bin/python3 benchmarks/numpy_ate_yardstick.py read GT EST [se3|posyaw]
 Peak memory: /usr/bin/time -v /usr/bin/python3 benchmarks/numpy_ate_yardstick.py se3
 Needs Debian's python3-numpy.
 """
@@ -71,7 +80,66 @@ def ate(t_gt_ns, p_gt, t_est_ns, p_est, mode):
     return np.sqrt(np.mean(e * e)), len(e)
 
 
+def yaw_quaternions_xyzw(yaw):
+    """TUM's (qx, qy, qz, qw) of rotations by yaw about z."""
+    zero = np.zeros_like(yaw)
+    return np.stack([zero, zero, np.sin(0.5 * yaw), np.cos(0.5 * yaw)], axis=1)
+
+
+def write_tum(path, t_ns, p, q_xyzw):
+    """A TUM file: header comment, then "timestamp tx ty tz qx qy qz qw" with the stamp in seconds
+    (9 decimals, written from the integer nanoseconds) and the rest with 9 decimals."""
+    seconds = [f"{s}.{f:09d}" for s, f in zip(t_ns // 1_000_000_000, t_ns % 1_000_000_000)]
+    values = np.char.mod("%.9f", np.concatenate([p, q_xyzw], axis=1))
+    rows = [" ".join([stamp, *row]) for stamp, row in zip(seconds, values)]
+    with open(path, "w") as out:
+        out.write("# timestamp tx ty tz qx qy qz qw\n")
+        out.write("\n".join(rows))
+        out.write("\n")
+
+
+def write_files(folder):
+    t_gt_ns, p_gt, t_est_ns, p_est = make_data()
+    write_tum(f"{folder}/truth_1M.txt", t_gt_ns, p_gt, yaw_quaternions_xyzw(0.05 * t_gt_ns * 1e-9))
+    write_tum(f"{folder}/est_500k.txt", t_est_ns, p_est,
+              yaw_quaternions_xyzw(0.05 * t_est_ns * 1e-9 + 0.01))
+
+
+def read_and_evaluate(gt_path, est_path, mode):
+    """The whole yardstick: np.loadtxt, association within 0.01 s (evo: nearest, earlier on a tie),
+    Umeyama, APE translation RMSE."""
+    start = time.perf_counter()
+    gt = np.loadtxt(gt_path, comments="#")
+    est = np.loadtxt(est_path, comments="#")
+    read_s = time.perf_counter() - start
+    i_est, i_gt = associate_seconds(gt[:, 0], est[:, 0], 0.01)
+    x, y = est[i_est, 1:4], gt[i_gt, 1:4]
+    r, t = umeyama(x, y, mode)
+    e = np.linalg.norm(x @ r.T + t - y, axis=1)
+    rmse = np.sqrt(np.mean(e * e))
+    print(f"numpy {np.__version__} {mode}: {len(e)} of {len(est)} poses associated, APE translation "
+          f"rmse {rmse:.6f} m (read {read_s:.2f} s, total {time.perf_counter() - start:.2f} s)")
+
+
+def associate_seconds(t_gt_s, t_est_s, max_dt_s):
+    """associate() on stamps in seconds as read from the files."""
+    k = np.searchsorted(t_gt_s, t_est_s)
+    lo = np.clip(k - 1, 0, len(t_gt_s) - 1)
+    hi = np.clip(k, 0, len(t_gt_s) - 1)
+    d_lo = np.abs(t_est_s - t_gt_s[lo])
+    d_hi = np.abs(t_gt_s[hi] - t_est_s)
+    nearest = np.where(d_lo <= d_hi, lo, hi)
+    keep = np.minimum(d_lo, d_hi) <= max_dt_s
+    return np.nonzero(keep)[0], nearest[keep]
+
+
 def main():
+    if len(sys.argv) > 2 and sys.argv[1] == "write":
+        write_files(sys.argv[2])
+        return
+    if len(sys.argv) > 3 and sys.argv[1] == "read":
+        read_and_evaluate(sys.argv[2], sys.argv[3], sys.argv[4] if len(sys.argv) > 4 else "se3")
+        return
     mode = sys.argv[1] if len(sys.argv) > 1 else "se3"
     repeats = int(sys.argv[2]) if len(sys.argv) > 2 else 5
     data = make_data()

@@ -5,13 +5,19 @@
 //   same analytic trajectories (the yardstick);
 // - BM_Rpe: evo RPE with delta 1 frame and 10 m on the associated pairs;
 // - BM_EvaluateTrajectory: the whole entry point (association, alignment, APE in four relations,
-//   RPE 1 frame and 10 m, rpg relative errors at the 5 default lengths, yaw drift, diagnostics).
+//   RPE 1 frame and 10 m, rpg relative errors at the 5 default lengths, yaw drift, diagnostics);
+// - BM_ReadTumTrajectory: reading the 1,000,000-pose truth back from the TUM file mavloc writes
+//   (ReadTrajectory: text, format detection, stamps, numbers, quaternion checks, order), the part
+//   of `mavloc eval` that np.loadtxt does in the whole-process yardstick (docs/performance.md).
 // Run one with --benchmark_filter and /usr/bin/time -v for the peak memory.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "core/rotation.h"
+#include "datasets/io/trajectory_formats/trajectory_format.h"
+#include "datasets/io/tum_io.h"
 #include "evaluation/trajectory_evaluation.h"
 
 namespace mavloc {
@@ -117,6 +123,22 @@ void BM_EvaluateTrajectory(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_EvaluateTrajectory)->Arg(0)->Arg(1)->ArgName("posyaw")->Unit(benchmark::kMillisecond);
+
+void BM_ReadTumTrajectory(benchmark::State& state) {
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "mavloc_bench_truth_1M.txt").string();
+  WriteTumTrajectory(Truth(), path);
+  size_t poses = 0;
+  for (auto _ : state) {
+    poses = ReadTrajectory(path).states.size();
+    benchmark::DoNotOptimize(poses);
+  }
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) *
+                          static_cast<int64_t>(std::filesystem::file_size(path)));
+  state.counters["poses"] = static_cast<double>(poses);
+  std::filesystem::remove(path);
+}
+BENCHMARK(BM_ReadTumTrajectory)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace mavloc

@@ -1,7 +1,9 @@
 // mavloc detect-tags: AprilTag detection (libapriltag) on a dataset's camera images -> tags0 (cam0)
 // / tags1 (cam1), or on a folder of photos or one image -> one CSV row per detection
 // (frontends/apriltag/detect_tags.h). --family aprilgrid detects Kalibr aprilgrids
-// (frontends/apriltag/aprilgrid_detector.h).
+// (frontends/apriltag/aprilgrid_detector.h); with the board known (--target FILE, or the dataset's
+// map.yaml aprilgrid_* parameters) the tags both detector passes missed are predicted from the grid
+// and checked against their codes.
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -13,6 +15,7 @@
 #include "core/errors.h"
 #include "core/interrupt.h"
 #include "core/progress.h"
+#include "datasets/io/aprilgrid_target_io.h"
 #include "datasets/io/euroc_io.h"
 #include "frontends/apriltag/detect_tags.h"
 
@@ -25,7 +28,7 @@ void RegisterDetectTags(CLI::App& app, int* exit_code) {
       "per-tag poses in poses.csv beside it); --images DIR|IMAGE --out FILE.csv writes one row "
       "per detection. --family aprilgrid: Kalibr aprilgrids");
   struct Args {
-    std::string dataset, images, out, camera = "cam0";
+    std::string dataset, images, out, camera = "cam0", target;
     TagDetectorOptions detector;
     bool rectify = true;
   };
@@ -62,6 +65,10 @@ void RegisterDetectTags(CLI::App& app, int* exit_code) {
   command->add_option("--sharpening", args->detector.decode_sharpening, "decode_sharpening")
       ->check(FiniteRange(0.0, 100.0))
       ->capture_default_str();
+  command->add_option("--target", args->target,
+                      "--family aprilgrid: the board (Kalibr target.yaml or yac's config); tags "
+                      "missed by the detector are then predicted from the grid (default with "
+                      "--dataset: the map's aprilgrid_* parameters, when it has them)");
   command->add_flag(
       "--raw", args->detector.raw_output,
       "Keep libapriltag's corner order and pixel convention (top-left pixel corner at "
@@ -69,6 +76,11 @@ void RegisterDetectTags(CLI::App& app, int* exit_code) {
   command->callback([args, exit_code] {
     if (args->dataset.empty() == args->images.empty())
       throw InputError("detect-tags needs exactly one of --dataset DIR or --images DIR");
+    if (!args->target.empty()) {
+      if (args->detector.family != "aprilgrid")
+        throw InputError("--target " + args->target + ": a board is for --family aprilgrid");
+      args->detector.aprilgrid.target = ReadAprilgridTarget(args->target);
+    }
     if (!args->images.empty()) {
       if (args->out.empty()) throw InputError("detect-tags --images needs --out FILE.csv");
       TagDetector detector(args->detector);
@@ -81,6 +93,10 @@ void RegisterDetectTags(CLI::App& app, int* exit_code) {
     ReportProgress("detect-tags", "reading " + args->dataset);
     EurocReadOptions read_options;
     const Dataset dataset = ReadEurocDataset(args->dataset, read_options);
+    if (args->target.empty() && args->detector.family == "aprilgrid") {
+      if (const auto target = AprilgridFromMap(dataset.map))
+        args->detector.aprilgrid.target = *target;
+    }
     std::vector<std::string> cameras;
     if (args->camera == "all") {
       for (const auto& camera : dataset.cameras) cameras.push_back(camera.name);

@@ -118,8 +118,6 @@ ImuNoiseInput ReadImuNoiseInput(const ImuNoiseArgs& args) {
 void KeepImuNoiseWindow(const ImuNoiseArgs& args, ImuNoiseInput* input) {
   std::vector<ImuSample>& samples = input->samples;
   if (samples.empty()) throw InputError(input->source, 0, "", "holds no IMU samples");
-  if (!(args.from_s < args.to_s))
-    throw InputError(fmt::format("--from {} is not before --to {}", args.from_s, args.to_s));
   const TimeNs t0_ns = samples.front().t_ns;
   const double length_s = NsToSeconds(samples.back().t_ns - t0_ns);
   const auto outside = [&](const ImuSample& s) {
@@ -143,6 +141,11 @@ std::string WindowText(const ImuNoiseArgs& args) {
 }
 
 void RunImuNoise(const ImuNoiseArgs& args) {
+  if (args.from_s < 0.0)
+    throw InputError(
+        fmt::format("--from {}: must be >= 0 (seconds after the first sample)", args.from_s));
+  if (!(args.from_s < args.to_s))
+    throw InputError(fmt::format("--from {} is not before --to {}", args.from_s, args.to_s));
   // The output folder is checked before any work and written whole (cli/output_folder.h).
   StagedFolder out(args.out, FolderKind::kReport, args.force);
   ImuNoiseInput input = ReadImuNoiseInput(args);

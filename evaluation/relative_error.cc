@@ -67,6 +67,10 @@ RelativeErrorAtLength ComputeRelativeError(const std::vector<PosePair>& pairs,
   const size_t found =
       static_cast<size_t>(std::count_if(end.begin(), end.end(), [](long j) { return j >= 0; }));
   if (found < 2) return r;  // rpg: "Too few samples! Will not compute."
+  for (auto* values : {&r.translation_m, &r.translation_percent, &r.rotation_deg,
+                       &r.rotation_deg_per_m, &r.yaw_deg, &r.tilt_deg})
+    values->reserve(found);
+  r.start_t_ns.reserve(found);
   for (size_t i = 0; i < pairs.size(); ++i) {
     if (end[i] < 0) continue;
     const PosePair& a = pairs[i];

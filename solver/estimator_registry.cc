@@ -92,6 +92,8 @@ const std::map<std::string, OptionRange>& OptionRanges() {
       {"min_inliers", {0.0, kUnbounded, false, ""}},
       {"min_filter_updates", {0.0, kUnbounded, false, ""}},
       {"gravity_min_tags", {1.0, kUnbounded, false, ""}},
+      {"reacquire_frames", {2.0, kUnbounded, false, ""}},
+      {"ransac_min_tags", {1.0, kUnbounded, false, ""}},
       {"init_seed", {0.0, kUnbounded, false, ""}},
       {"attitude_error_seed", {0.0, kUnbounded, false, ""}},
   };
@@ -165,8 +167,8 @@ const std::set<std::string> kGravityEkf = {"gyro_noise_density", "accel_noise_de
                                            "gyro_bias_sigma"};
 // Board-map initialisation (ParseBoardInitOptions, solver/board/board_world.cc).
 const std::set<std::string> kBoardInit = {"gravity_init_s", "gravity_min_tags"};
-const std::set<std::string> kCornerRansac = {"ransac", "ransac_threshold_px", "ransac_min_tags",
-                                             "single_tag", "min_ambiguity_ratio"};
+const std::set<std::string> kCornerRansac = {"ransac",     "ransac_threshold_px", "ransac_min_tags",
+                                             "single_tag", "min_ambiguity_ratio", "map_check"};
 // Roll/pitch source (ParseRollPitchSourceOptions, solver/pixhawk/roll_pitch_source.cc).
 const std::set<std::string> kRollPitchSource = {"attitude", "attitude_error_deg",
                                                 "attitude_error_tau_s", "attitude_error_seed",

@@ -21,6 +21,10 @@ Eigen::MatrixXd CentralDifferenceJacobian(
     const std::function<Eigen::VectorXd(const Eigen::VectorXd&, const Eigen::VectorXd&)>& minus,
     double step = 1e-6);
 
+// The suites run the CLI with MAVLOC_FIGURES=0 (set when the suite starts, unless the environment
+// sets it); a suite that checks figures calls FiguresOn() first.
+void FiguresOn();
+
 // ../shared/data (absolute), and whether it exists.
 std::string SharedDataDir();
 bool HasSharedData();

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <iterator>
 #include <numeric>
 
 #include "datasets/io/tum_io.h"
@@ -572,23 +573,25 @@ std::map<std::string, std::string> EvalReportFiles(const EvalReport& report) {
   const TimeNs t0 = report.truth_poses.empty() ? 0 : report.truth_poses.front().t_ns;
   std::string over_time = "label,run,t_s,translation_error_m,rotation_error_deg\n";
   std::string relative = "label,run,length_m,translation_error_pct,rotation_error_deg_per_m\n";
+  // Rows formatted in place at the end of each text (no string per row).
+  auto over_time_out = std::back_inserter(over_time);
+  auto relative_out = std::back_inserter(relative);
   for (const auto& estimate : report.estimates) {
     for (const auto& run : estimate.runs) {
       files[EstimateFileName(estimate, run)] = TumTrajectoryText(run.aligned_estimate);
       const TrajectoryEvaluation& ev = run.evaluation;
       for (size_t i = 0; i < ev.pair_t_ns.size() && i < ev.ape.translation_m.size(); ++i)
-        over_time += fmt::format("{},{},{:.9f},{:.9g},{:.9g}\n", estimate.label, run.run,
-                                 NsToSeconds(ev.pair_t_ns[i] - t0), ev.ape.translation_m[i],
-                                 i < ev.ape.rotation_deg.size() ? ev.ape.rotation_deg[i] : 0.0);
+        fmt::format_to(over_time_out, "{},{},{:.9f},{:.9g},{:.9g}\n", estimate.label, run.run,
+                       NsToSeconds(ev.pair_t_ns[i] - t0), ev.ape.translation_m[i],
+                       i < ev.ape.rotation_deg.size() ? ev.ape.rotation_deg[i] : 0.0);
       for (const auto& rel : ev.relative)
         for (size_t s = 0; s < rel.count(); ++s)
-          relative +=
-              fmt::format("{},{},{:g},{:.9g},{:.9g}\n", estimate.label, run.run, rel.length_m,
-                          rel.translation_percent[s], rel.rotation_deg_per_m[s]);
+          fmt::format_to(relative_out, "{},{},{:g},{:.9g},{:.9g}\n", estimate.label, run.run,
+                         rel.length_m, rel.translation_percent[s], rel.rotation_deg_per_m[s]);
     }
   }
-  files["errors_over_time.csv"] = over_time;
-  files["relative_errors.csv"] = relative;
+  files["errors_over_time.csv"] = std::move(over_time);
+  files["relative_errors.csv"] = std::move(relative);
   return files;
 }
 

@@ -53,19 +53,60 @@
 // down to a shortest tag edge of about 19 px (cells of 1.9 px); below, tags drop (13-15 px edges
 // near the distorted image corner: 12-26 of 36 found, plain libapriltag 10-13).
 //
+// Hand-held frames (the 10 real Intel D435i frames of ../shared/data/d435i_aprilgrid: 640x480
+// JPEG, motion blur, over-exposure, tags of about 18-40 px; yac's detections as reference;
+// tests/frontends/aprilgrid_handheld_test.cc). The separated image alone finds 250 of yac's 339
+// tags (yac's 5 detections that lie off the board's grid are not counted). Why the 89 are lost,
+// measured with libapriltag's own quad stage (apriltag_quad_thresh) and the tag's code sampled
+// through yac's corners: 73 have a quad on the separated image within 1 px of yac's corners and
+// their code reads with 0 bit errors on the original image, but libapriltag decodes them on the
+// separated image, where the 2x2 erosion has eaten their thinnest data cells (cells of 2.1-2.8 px;
+// 66 of the 73 are found by libapriltag on the original image); 7 have no quad within 5 px of
+// yac's corners (6 of them board-corner tags, see below); 8 are found and then dropped by the
+// corner refinement's max_shift (all board-corner tags, where the motion-capture markers of this
+// board sit on the corner squares and the X-junction is not clean); 1 has a quad only on the
+// original image. Neither quad_sigma (0.6, 0.8: fewer tags), decode_sharpening (0, 0.5: +-4 tags)
+// nor a larger max_shift (more tags, corners off by up to 7 px) is the remedy. Two steps are: (4)
+// unseparated_pass: libapriltag runs a second time on the original image, and its tags that the
+// separated image lacked join them (their quads are not eroded, so UndoJunctionSeparation is
+// skipped; a quad snapped to a corner square fails the refinement's shift test): 315 / 339.
+// (5) With the board known (options.target), PredictMissingAprilgridTags puts every missing tag
+// where a homography fitted to its nearest found neighbours says, its corners are refined as
+// X-junctions from there, and the tag is kept only when its code, sampled on the original image
+// through the refined corners, is its id's within predicted_max_hamming bits (and its white ring is
+// brighter than its black border): 330 / 339, median corner distance to yac's 0.08 px, no false
+// id. The 9 still lost are all board-corner tags (0, 5, 30, 35) whose outer corner is covered by a
+// marker; the largest corner distances (1-2.6 px) are at the same outer corners.
+//
 // Pixel convention: mavloc's (pixel centres at integers), see tag_detector.h.
 #pragma once
 
 #include <Eigen/Core>
 #include <array>
 #include <opencv2/core.hpp>
+#include <vector>
+
+#include "core/aprilgrid.h"
+
+struct apriltag_family;
 
 namespace mavloc {
 
 struct AprilgridDetectOptions {
   bool separate_junctions = true;  // the 2x2 grey-level dilation before segmentation
-  bool refine_corners = true;      // X-junction refinement on the original image
-  double window_fraction = 0.14;   // half window / shortest tag edge (px / px)
+  // A second libapriltag pass on the original image; its tags join those of the separated image
+  // (by id, the separated image's detection first). See "Hand-held frames" above.
+  bool unseparated_pass = true;
+  // The board (rows, cols, spacing; tag_size_m is not used). When valid, tags that neither pass
+  // found are predicted from the found ones (PredictMissingAprilgridTags); tag_rows = 0: unknown.
+  AprilgridTarget target;
+  // A predicted tag is accepted when its 36 data bits, sampled on the original image through its
+  // refined corners, differ from its id's code in at most this many bits, and its white ring is
+  // brighter than its black border by at least predicted_min_contrast_grey.
+  int predicted_max_hamming = 2;
+  double predicted_min_contrast_grey = 20.0;
+  bool refine_corners = true;     // X-junction refinement on the original image
+  double window_fraction = 0.14;  // half window / shortest tag edge (px / px)
   // Gaussian blur of the image the corners are refined on (0: none), see RefinementImage.
   double refine_blur_sigma_px = 0.8;
   int min_half_window_px = 2;
@@ -99,5 +140,31 @@ cv::Mat RefinementImage(const cv::Mat& gray, const AprilgridDetectOptions& optio
 // moves farther than allowed.
 bool RefineAprilgridCorners(const cv::Mat& image, const AprilgridDetectOptions& options,
                             std::array<Eigen::Vector2d, 4>* corners_px);
+
+// Bits of tag `id` of `family` (the aprilgrid family, aprilgrid_family.h) that differ from the
+// image: each data cell is sampled (bilinear) at its centre through the homography of `corners_px`
+// (mavloc order: the black square's corners) and thresholded halfway between the mean of the
+// black border's outer ring and the mean of the white ring outside it. `contrast_grey` (optional)
+// receives white mean - black mean. Returns the number of bits (0..nbits), or -1 when a sample
+// falls outside the image.
+int AprilgridCodeDistance(const cv::Mat& gray, const struct apriltag_family& family, int id,
+                          const std::array<Eigen::Vector2d, 4>& corners_px,
+                          double* contrast_grey = nullptr);
+
+// One predicted tag: its id and its corners (mavloc order and pixel convention).
+struct PredictedAprilgridTag {
+  int id = 0;
+  std::array<Eigen::Vector2d, 4> corners_px{};
+};
+
+// Where the tags of options.target that are not in `found_ids` lie in the image, from the tags that
+// were found (`found_ids[i]` with corners `found_corners_px[i]`): per missing tag, a homography
+// board plane -> image fitted to the corners of the (up to 8) found tags nearest to it on the grid
+// (nearest first, at least 2 tags), so that lens distortion enters only through the neighbourhood.
+// Tags whose predicted white ring is not inside the image by border_px are left out.
+std::vector<PredictedAprilgridTag> PredictMissingAprilgridTags(
+    const AprilgridTarget& target, const std::vector<int>& found_ids,
+    const std::vector<std::array<Eigen::Vector2d, 4>>& found_corners_px, const cv::Size& image_size,
+    double border_px);
 
 }  // namespace mavloc

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <set>
 
 #include "core/errors.h"
 #include "frontends/apriltag/aprilgrid_family.h"
@@ -90,14 +91,15 @@ TagDetector::TagDetector(const TagDetectorOptions& options)
 
 TagDetector::~TagDetector() = default;
 
-bool TagDetector::RefineAprilgrid(const cv::Mat& image, TagDetection* detection) const {
+bool TagDetector::RefineAprilgrid(const cv::Mat& image, bool separated,
+                                  TagDetection* detection) const {
   const AprilgridDetectOptions& grid = options_.aprilgrid;
   // The aprilgrid steps work in mavloc's pixel convention; raw output is shifted back at the end.
   const double to_mavloc = options_.raw_output ? kMavlocFromApriltagPixelShift : 0.0;
   std::array<Eigen::Vector2d, 4> corners;
   for (int k = 0; k < 4; ++k)
     corners[k] = detection->corners_px[k] + Eigen::Vector2d::Constant(to_mavloc);
-  if (grid.separate_junctions) corners = UndoJunctionSeparation(corners);
+  if (separated) corners = UndoJunctionSeparation(corners);
   if (grid.refine_corners && !RefineAprilgridCorners(image, grid, &corners)) return false;
   for (int k = 0; k < 4; ++k)
     detection->corners_px[k] = corners[k] - Eigen::Vector2d::Constant(to_mavloc);
@@ -110,18 +112,26 @@ bool TagDetector::RefineAprilgrid(const cv::Mat& image, TagDetection* detection)
   return true;
 }
 
-std::vector<TagDetection> TagDetector::Detect(const cv::Mat& gray) {
+bool TagDetector::NearBorder(const TagDetection& detection, const cv::Size& size) const {
+  const double m = options_.min_border_px;
+  if (!(m > 0.0)) return false;
+  for (const auto& c : detection.corners_px) {
+    if (c.x() < m - 0.5 || c.y() < m - 0.5 || c.x() > size.width - 0.5 - m ||
+        c.y() > size.height - 0.5 - m)
+      return true;
+  }
+  return false;
+}
+
+std::vector<TagDetection> TagDetector::DetectPass(const cv::Mat& segmented, bool separated,
+                                                  const cv::Mat& gray, cv::Mat* refinement_image) {
   std::vector<TagDetection> detections;
-  if (gray.empty() || gray.type() != CV_8UC1) return detections;
   const bool aprilgrid = IsAprilgridFamily(options_.family);
   const AprilgridDetectOptions& grid = options_.aprilgrid;
-  const cv::Mat segmented =
-      aprilgrid && grid.separate_junctions ? SeparateDiagonalJunctions(gray) : gray;
   // libapriltag reads the image through this plain struct; it does not take ownership.
   image_u8_t header{segmented.cols, segmented.rows, static_cast<int32_t>(segmented.step[0]),
                     const_cast<uint8_t*>(segmented.ptr<uint8_t>())};
   zarray_t* found = apriltag_detector_detect(impl_->detector, &header);
-  cv::Mat refinement_image;  // aprilgrid: made on the first detection
   for (int i = 0; i < zarray_size(found); ++i) {
     apriltag_detection_t* det = nullptr;
     zarray_get(found, i, &det);
@@ -136,19 +146,90 @@ std::vector<TagDetection> TagDetector::Detect(const cv::Mat& gray) {
       detection.corners_px[k] =
           Eigen::Vector2d(det->p[source][0] + shift, det->p[source][1] + shift);
     }
-    if (aprilgrid && grid.refine_corners && refinement_image.empty())
-      refinement_image = RefinementImage(gray, grid);
-    if (aprilgrid && !RefineAprilgrid(refinement_image, &detection)) continue;
-    bool near_border = false;
-    for (const auto& c : detection.corners_px) {
-      const double m = options_.min_border_px;
-      if (m > 0.0 && (c.x() < m - 0.5 || c.y() < m - 0.5 || c.x() > gray.cols - 0.5 - m ||
-                      c.y() > gray.rows - 0.5 - m))
-        near_border = true;
-    }
-    if (!near_border) detections.push_back(detection);
+    if (aprilgrid && grid.refine_corners && refinement_image->empty())
+      *refinement_image = RefinementImage(gray, grid);
+    if (aprilgrid && !RefineAprilgrid(*refinement_image, separated, &detection)) continue;
+    if (!NearBorder(detection, gray.size())) detections.push_back(detection);
   }
   apriltag_detections_destroy(found);
+  return detections;
+}
+
+void TagDetector::AddPredictedAprilgridTags(const cv::Mat& gray, const cv::Mat& refinement_image,
+                                            std::vector<TagDetection>* detections) const {
+  const AprilgridDetectOptions& grid = options_.aprilgrid;
+  // The grid steps work in mavloc's pixel convention; raw output is shifted back at the end.
+  const double to_mavloc = options_.raw_output ? kMavlocFromApriltagPixelShift : 0.0;
+  // Tags found in this round help to predict the others in the next (a gap of several tags fills
+  // from its edges).
+  constexpr int kRounds = 3;
+  for (int round = 0; round < kRounds; ++round) {
+    std::vector<int> ids;
+    std::vector<std::array<Eigen::Vector2d, 4>> corners;
+    for (const auto& det : *detections) {
+      ids.push_back(det.id);
+      std::array<Eigen::Vector2d, 4> c = det.corners_px;
+      for (auto& p : c) p += Eigen::Vector2d::Constant(to_mavloc);
+      corners.push_back(c);
+    }
+    // The white ring must be inside the image, with the border rule's margin.
+    const double border_px = std::max(options_.min_border_px, 1.0);
+    const auto predicted =
+        PredictMissingAprilgridTags(grid.target, ids, corners, gray.size(), border_px);
+    int added = 0;
+    for (const auto& tag : predicted) {
+      std::array<Eigen::Vector2d, 4> refined = tag.corners_px;
+      if (!RefineAprilgridCorners(refinement_image, grid, &refined)) continue;
+      double contrast_grey = 0.0;
+      const int distance =
+          AprilgridCodeDistance(gray, *impl_->family, tag.id, refined, &contrast_grey);
+      if (distance < 0 || distance > grid.predicted_max_hamming ||
+          !(contrast_grey >= grid.predicted_min_contrast_grey))
+        continue;
+      TagDetection detection;
+      detection.id = tag.id;
+      detection.hamming = distance;
+      detection.decision_margin = 0.0;  // not decoded by libapriltag
+      for (int k = 0; k < 4; ++k)
+        detection.corners_px[k] = refined[k] - Eigen::Vector2d::Constant(to_mavloc);
+      const Eigen::Vector3d d02 = refined[0].homogeneous().cross(refined[2].homogeneous());
+      const Eigen::Vector3d d13 = refined[1].homogeneous().cross(refined[3].homogeneous());
+      const Eigen::Vector3d centre = d02.cross(d13);
+      if (!(std::abs(centre.z()) > 1e-12)) continue;
+      detection.center_px = centre.hnormalized() - Eigen::Vector2d::Constant(to_mavloc);
+      if (NearBorder(detection, gray.size())) continue;
+      detections->push_back(detection);
+      ++added;
+    }
+    if (added == 0) break;
+  }
+}
+
+std::vector<TagDetection> TagDetector::Detect(const cv::Mat& gray) {
+  std::vector<TagDetection> detections;
+  if (gray.empty() || gray.type() != CV_8UC1) return detections;
+  const bool aprilgrid = IsAprilgridFamily(options_.family);
+  const AprilgridDetectOptions& grid = options_.aprilgrid;
+  cv::Mat refinement_image;  // aprilgrid: made on the first detection
+  if (!aprilgrid) {
+    detections = DetectPass(gray, false, gray, &refinement_image);
+  } else {
+    detections = DetectPass(grid.separate_junctions ? SeparateDiagonalJunctions(gray) : gray,
+                            grid.separate_junctions, gray, &refinement_image);
+    std::set<int> ids;
+    for (const auto& det : detections) ids.insert(det.id);
+    // With the board known, a first pass that found every tag needs no second.
+    const bool board_known = grid.target.Validate().empty();
+    const bool complete = board_known && static_cast<int>(ids.size()) >= grid.target.NumTags();
+    if (grid.separate_junctions && grid.unseparated_pass && !complete) {
+      for (const auto& det : DetectPass(gray, false, gray, &refinement_image))
+        if (ids.count(det.id) == 0) detections.push_back(det);
+    }
+    if (grid.refine_corners && board_known && !detections.empty()) {
+      if (refinement_image.empty()) refinement_image = RefinementImage(gray, grid);
+      AddPredictedAprilgridTags(gray, refinement_image, &detections);
+    }
+  }
   std::sort(detections.begin(), detections.end(), [](const TagDetection& a, const TagDetection& b) {
     if (a.id != b.id) return a.id < b.id;
     if (a.corners_px[0].x() != b.corners_px[0].x())

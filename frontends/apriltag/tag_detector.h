@@ -64,8 +64,10 @@ std::vector<std::string> SupportedTagFamilies();
 
 struct TagDetection {
   int id = 0;
-  int hamming = 0;               // bits corrected
-  double decision_margin = 0.0;  // libapriltag's decoding confidence
+  int hamming = 0;  // bits corrected
+  // libapriltag's decoding confidence; 0 for an aprilgrid tag predicted from the grid (its code is
+  // verified by AprilgridCodeDistance, `hamming` holds that distance).
+  double decision_margin = 0.0;
   Eigen::Vector2d center_px = Eigen::Vector2d::Zero();
   // Corners in pixels (distorted, as seen), in mavloc's order (core/tag_geometry.h) and pixel
   // convention unless raw_output.
@@ -93,8 +95,20 @@ class TagDetector {
 
  private:
   // The aprilgrid steps after libapriltag (aprilgrid_detector.h); false drops the detection.
-  // `image`: RefinementImage of the original image (empty when corners are not refined).
-  bool RefineAprilgrid(const cv::Mat& image, TagDetection* detection) const;
+  // `image`: RefinementImage of the original image (empty when corners are not refined);
+  // `separated`: the detection comes from SeparateDiagonalJunctions' output.
+  bool RefineAprilgrid(const cv::Mat& image, bool separated, TagDetection* detection) const;
+  // One libapriltag run on `segmented` (`separated`: SeparateDiagonalJunctions' output of `gray`),
+  // then (aprilgrid) the corner steps on `gray` and the border rule. `refinement_image` is made on
+  // first use.
+  std::vector<TagDetection> DetectPass(const cv::Mat& segmented, bool separated,
+                                       const cv::Mat& gray, cv::Mat* refinement_image);
+  // Aprilgrid with a known target: the tags the grid predicts where none was found, refined and
+  // verified by their code (aprilgrid_detector.h), appended to `detections`.
+  void AddPredictedAprilgridTags(const cv::Mat& gray, const cv::Mat& refinement_image,
+                                 std::vector<TagDetection>* detections) const;
+  // The border rule (min_border_px).
+  bool NearBorder(const TagDetection& detection, const cv::Size& size) const;
 
   struct Impl;
   TagDetectorOptions options_;

@@ -2,6 +2,7 @@
 
 #include "solver/pixhawk/roll_pitch_source.h"
 #include "solver/pose/corner_pnp_ransac.h"
+#include "solver/pose/tag_map_check.h"
 #include "solver/pose/tags_camera.h"
 
 namespace mavloc {
@@ -9,7 +10,8 @@ namespace mavloc {
 PnpEstimator::PnpEstimator(const EstimatorOptions& options)
     : image_delay_ms_(options.GetDouble("image_delay_ms", 0.0)),
       board_(ParseBoardInitOptions(options)),
-      ransac_(ParseCornerRansacOptions(options)) {}
+      ransac_(ParseCornerRansacOptions(options)),
+      map_check_(ParseTagMapCheckOptions(options)) {}
 
 Applicability PnpEstimator::AppliesTo(const Dataset& dataset) const {
   if (dataset.tags.empty()) return Applicability::No("needs tags0 corner observations");
@@ -32,7 +34,13 @@ Estimate PnpEstimator::RunInWorld(const Dataset& dataset) const {
   estimate.quantities = MakeQuantityTable(FramePoseQuantityNames());
   const CameraSensor& camera = *TagsCamera(dataset);
   const TimeNs delay_ns = SecondsToNs(1e-3 * image_delay_ms_);
-  for (const TagFrame& frame : GroupTagFrames(dataset)) {
+  const std::vector<TagFrame> frames = GroupTagFrames(dataset);
+  std::vector<std::vector<TagObservation>> observations;
+  for (const TagFrame& frame : frames) observations.push_back(frame.observations);
+  const TagMapCheck check =
+      CheckTagMap(observations, dataset.map.tags, camera, ransac_, map_check_);
+  estimate.events = check.events;
+  for (const TagFrame& frame : frames) {
     if (frame.observations.empty()) {
       estimate.CountFailure("no marker in view");
       continue;

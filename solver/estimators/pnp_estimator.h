@@ -9,12 +9,15 @@
 // (solver/board/board_world.h); every frame, those of the window included, is then solved in W,
 // and the estimate carries T_W_M and board_roll, board_pitch. Options: image_delay_ms (0):
 // subtracted from the frame stamps (a known transfer delay); gravity_init_s (2), gravity_min_tags
-// (2); ransac (1), ransac_threshold_px (4), ransac_min_tags (2), single_tag (1).
+// (2); ransac (1), ransac_threshold_px (4), ransac_min_tags (2), single_tag (1),
+// min_ambiguity_ratio (0), map_check (1: tags that disagree with the map are named in the report,
+// solver/pose/tag_map_check.h).
 #pragma once
 
 #include "solver/board/board_world.h"
 #include "solver/estimator.h"
 #include "solver/pose/corner_pnp_ransac.h"
+#include "solver/pose/tag_map_check.h"
 
 namespace mavloc {
 
@@ -31,6 +34,7 @@ class PnpEstimator : public Estimator {
   double image_delay_ms_;
   BoardInitOptions board_;
   CornerRansacOptions ransac_;
+  TagMapCheckOptions map_check_;
 };
 
 }  // namespace mavloc

@@ -1,22 +1,16 @@
 #include "solver/estimators/tag_ekf_reacquire.h"
 
-#include "core/errors.h"
-
 namespace mavloc {
 
+// The ranges (frames >= 2, sigmas > 0) are checked when the estimator is created
+// (solver/estimator_registry.cc, OptionRanges).
 ReacquireOptions ParseReacquireOptions(const EstimatorOptions& options) {
   ReacquireOptions out;
   out.enabled = options.GetBool("reacquire", out.enabled);
   out.frames = options.GetInt("reacquire_frames", out.frames);
-  if (out.frames < 2) throw InputError("", 0, "reacquire_frames", "must be >= 2");
-  const auto positive = [&](const char* key, double fallback) {
-    const double value = options.GetDouble(key, fallback);
-    if (!(value > 0.0)) throw InputError("", 0, key, "must be > 0");
-    return value;
-  };
-  out.position_sigma_m = positive("reacquire_pos_sigma", out.position_sigma_m);
-  out.velocity_sigma_m_s = positive("reacquire_vel_sigma", out.velocity_sigma_m_s);
-  out.attitude_sigma_rad = positive("reacquire_att_sigma", out.attitude_sigma_rad);
+  out.position_sigma_m = options.GetDouble("reacquire_pos_sigma", out.position_sigma_m);
+  out.velocity_sigma_m_s = options.GetDouble("reacquire_vel_sigma", out.velocity_sigma_m_s);
+  out.attitude_sigma_rad = options.GetDouble("reacquire_att_sigma", out.attitude_sigma_rad);
   return out;
 }
 

@@ -1,6 +1,7 @@
 #include "solver/estimators/tag_pnp_estimator.h"
 
 #include "solver/pose/corner_pnp_ransac.h"
+#include "solver/pose/tag_map_check.h"
 #include "solver/pose/tags_camera.h"
 
 namespace mavloc {
@@ -8,7 +9,8 @@ namespace mavloc {
 TagPnpEstimator::TagPnpEstimator(const EstimatorOptions& options)
     : camera_name_(options.GetString("camera", "")),
       board_(ParseBoardInitOptions(options)),
-      ransac_(ParseCornerRansacOptions(options)) {}
+      ransac_(ParseCornerRansacOptions(options)),
+      map_check_(ParseTagMapCheckOptions(options)) {}
 
 Applicability TagPnpEstimator::AppliesTo(const Dataset& dataset) const {
   if (dataset.tags.empty()) return Applicability::No("needs tags0 observations");
@@ -31,15 +33,18 @@ Estimate TagPnpEstimator::RunInWorld(const Dataset& dataset) const {
   estimate.quantities = MakeQuantityTable(FramePoseQuantityNames());
   const CameraSensor& camera = *TagsCamera(dataset, camera_name_);
   // tags0 is time-ordered: one frame is a run of rows with the same stamp.
+  std::vector<std::vector<TagObservation>> frames;
   for (size_t begin = 0; begin < dataset.tags.size();) {
     size_t end = begin;
     while (end < dataset.tags.size() && dataset.tags[end].t_ns == dataset.tags[begin].t_ns) ++end;
-    const std::vector<TagObservation> frame(dataset.tags.begin() + begin,
-                                            dataset.tags.begin() + end);
-    RecordFramePose(CornerPnpRansac(frame, dataset.map.tags, camera, ransac_), frame.front().t_ns,
-                    &estimate);
+    frames.emplace_back(dataset.tags.begin() + begin, dataset.tags.begin() + end);
     begin = end;
   }
+  const TagMapCheck check = CheckTagMap(frames, dataset.map.tags, camera, ransac_, map_check_);
+  estimate.events = check.events;
+  for (const std::vector<TagObservation>& frame : frames)
+    RecordFramePose(CornerPnpRansac(frame, dataset.map.tags, camera, ransac_), frame.front().t_ns,
+                    &estimate);
   return estimate;
 }
 

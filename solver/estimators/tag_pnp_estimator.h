@@ -2,14 +2,17 @@
 // T_W_B from the frame's tag corners (solver/pose/corner_pnp.h: IPPE + LM on the reprojection
 // error), with no IMU and no filtering. Tags that disagree with the frame's consensus pose are left
 // out (solver/pose/corner_pnp_ransac.h; ransac=0 uses every tag, as the paper does) and counted as
-// rejections. Frames with no tag in the map, or where the PnP fails or no two tags agree, are
-// counted as failures by reason. Reports x, y, z, roll, pitch, yaw and inlier_tags.
+// rejections. Tags whose map pose the other tags of their frames disagree with are named in the
+// report's events (solver/pose/tag_map_check.h; map_check=0 skips the check). Frames with no tag in
+// the map, or where the PnP fails or no two
+// tags agree, are counted as failures by reason. Reports x, y, z, roll, pitch, yaw and inlier_tags.
 // On a board map (MapFrame::kBoard) the map is first put into the gravity-aligned W of
 // core/board_frame.h from the first gravity_init_s seconds of PnP poses and IMU
 // (solver/board/board_world.h); every frame, those of the window included, is then solved in W,
 // and the estimate carries T_W_M and board_roll, board_pitch.
 // Options: camera (default: the tags' camera, cameras[0]), gravity_init_s (2), gravity_min_tags
-// (2), ransac (1), ransac_threshold_px (4), ransac_min_tags (2), single_tag (1).
+// (2), ransac (1), ransac_threshold_px (4), ransac_min_tags (2), single_tag (1),
+// min_ambiguity_ratio (0), map_check (1).
 #pragma once
 
 #include <string>
@@ -17,6 +20,7 @@
 #include "solver/board/board_world.h"
 #include "solver/estimator.h"
 #include "solver/pose/corner_pnp_ransac.h"
+#include "solver/pose/tag_map_check.h"
 
 namespace mavloc {
 
@@ -33,6 +37,7 @@ class TagPnpEstimator : public Estimator {
   std::string camera_name_;
   BoardInitOptions board_;
   CornerRansacOptions ransac_;
+  TagMapCheckOptions map_check_;
 };
 
 }  // namespace mavloc

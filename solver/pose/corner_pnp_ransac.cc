@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 
-#include "core/errors.h"
 #include "core/tag_geometry.h"
 
 namespace mavloc {
@@ -127,17 +127,15 @@ void RecordFramePose(const CornerRansacResult& result, TimeNs t_ns, Estimate* es
   estimate->poses.push_back({t_ns, result.pnp.T_W_B});
 }
 
+// The ranges (threshold > 0, min tags >= 1, ratio >= 0) are checked when the estimator is
+// created (solver/estimator_registry.cc, OptionRanges).
 CornerRansacOptions ParseCornerRansacOptions(const EstimatorOptions& options) {
   CornerRansacOptions out;
   out.enabled = options.GetBool("ransac", out.enabled);
   out.threshold_px = options.GetDouble("ransac_threshold_px", out.threshold_px);
-  if (!(out.threshold_px > 0.0)) throw InputError("", 0, "ransac_threshold_px", "must be > 0");
   out.min_inlier_tags = options.GetInt("ransac_min_tags", out.min_inlier_tags);
-  if (out.min_inlier_tags < 1) throw InputError("", 0, "ransac_min_tags", "must be >= 1");
   out.single_tag = options.GetBool("single_tag", out.single_tag);
   out.min_ambiguity_ratio = options.GetDouble("min_ambiguity_ratio", out.min_ambiguity_ratio);
-  if (!(out.min_ambiguity_ratio >= 0.0))
-    throw InputError("", 0, "min_ambiguity_ratio", "must be >= 0");
   return out;
 }
 
@@ -151,6 +149,7 @@ CornerRansacResult CornerPnpRansac(const std::vector<TagObservation>& observatio
     return out;
   }
   std::vector<size_t> inliers;
+  std::optional<CornerPnpResult> solved;  // the refined PnP on `inliers`, when already solved
   if (!options.enabled || frame.size() == 1) {
     if (frame.size() == 1 && options.enabled && !options.single_tag) {
       out.pnp.reason = "one map tag in view (single_tag=0)";
@@ -168,13 +167,16 @@ CornerRansacResult CornerPnpRansac(const std::vector<TagObservation>& observatio
       return out;
     }
     // Least squares on the consensus, then its inliers once more from the refined pose.
-    const CornerPnpResult refined = PnpOn(frame, inliers, camera, /*refine=*/true);
+    CornerPnpResult refined = PnpOn(frame, inliers, camera, /*refine=*/true);
     if (refined.ok) {
       const Consensus again = Score(frame, refined.T_W_C, camera.model.K(), options.threshold_px);
-      if (again.inliers.size() >= inliers.size()) inliers = again.inliers;
+      if (again.inliers == inliers)
+        solved = std::move(refined);
+      else if (again.inliers.size() >= inliers.size())
+        inliers = again.inliers;
     }
   }
-  out.pnp = PnpOn(frame, inliers, camera, /*refine=*/true);
+  out.pnp = solved ? std::move(*solved) : PnpOn(frame, inliers, camera, /*refine=*/true);
   // The reprojection gate: a pose that does not reproject its own corners (a collapsed or
   // degenerate detection, a diverged refinement) is no pose.
   if (options.enabled && out.pnp.ok && !(out.pnp.rms_reprojection_px <= options.threshold_px)) {

@@ -295,7 +295,7 @@ TEST(FiguresFolders, AFailingPlotScriptIsOneLine) {
                  "#!/bin/sh\necho 'Traceback (most recent call last):' >&2\n"
                  "echo '  File \"x.py\", line 1' >&2\necho 'KeyError: quantity' >&2\nexit 1\n");
   fs::permissions(python, fs::perms::owner_all);
-  const auto run = RunCliWith(dir, "MAVLOC_PYTHON=" + python, "figures r");
+  const auto run = RunCliWith(dir, "MAVLOC_FIGURES=1 MAVLOC_PYTHON=" + python, "figures r");
   EXPECT_EQ(run.exit_code, 1) << run.out << run.err;
   EXPECT_EQ(run.out.find("Traceback"), std::string::npos) << run.out;
   EXPECT_EQ(run.out.find("File \"x.py\""), std::string::npos) << run.out;

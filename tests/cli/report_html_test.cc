@@ -50,6 +50,7 @@ size_t Count(const std::string& text, const std::string& what) {
 class ReportHtml : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
+    testing::FiguresOn();
     dir_ = new std::string(fs::temp_directory_path() /
                            ("mavloc_report_html_" + std::to_string(::getpid())));
     fs::remove_all(*dir_);

@@ -60,7 +60,7 @@ TEST(ReportScreenshot, ChromiumRendersTheCompareReportWithItsFigures) {
     GTEST_SKIP() << "/usr/bin/python3 cannot import matplotlib: install python3-matplotlib "
                     "(scripts/setup)";
   ::setenv("MAVLOC_QUIET", "1", 1);
-  ::unsetenv("MAVLOC_FIGURES");  // figures on, whatever the caller's environment says
+  testing::FiguresOn();
   const std::string work = MakeTempDir();
   const std::string report = work + "/report";
 

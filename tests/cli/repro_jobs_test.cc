@@ -72,10 +72,19 @@ void ExpectSameResults(const TwoRuns& runs, const std::string& dir,
   const nlohmann::json difference =
       nlohmann::json::diff(WithoutTimes(runs.serial), WithoutTimes(runs.parallel));
   EXPECT_TRUE(difference.empty()) << difference.dump(1);
+  // The report names its own folder where it says how to draw the figures (they are off in the
+  // tests): the one difference allowed.
+  const auto without_folder = [&](std::string text, const std::string& folder) {
+    const std::string path = dir + "/" + folder;
+    for (size_t at = text.find(path); at != std::string::npos; at = text.find(path, at))
+      text.replace(at, path.size(), "REPORT");
+    return text;
+  };
   for (const auto& file : files) {
-    const std::string left = Read(dir + "/serial/" + file);
+    const std::string left = without_folder(Read(dir + "/serial/" + file), "serial");
     EXPECT_FALSE(left.empty()) << file;
-    EXPECT_TRUE(left == Read(dir + "/parallel/" + file)) << file << " differs";
+    EXPECT_TRUE(left == without_folder(Read(dir + "/parallel/" + file), "parallel"))
+        << file << " differs";
   }
 }
 

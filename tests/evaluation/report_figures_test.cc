@@ -54,6 +54,13 @@ bool HasMatplotlib() {
   GTEST_SKIP() << "/usr/bin/python3 cannot import matplotlib: install python3-matplotlib " \
                   "(scripts/setup) to run the figure tests"
 
+// This suite checks figures: they are drawn (tests/test_support.h).
+class FiguresOnEnvironment : public ::testing::Environment {
+ public:
+  void SetUp() override { testing::FiguresOn(); }
+};
+const auto* const kFiguresOn = ::testing::AddGlobalTestEnvironment(new FiguresOnEnvironment);
+
 // Sets an environment variable for one scope (the tests of one file run in one process, serially).
 class ScopedEnv {
  public:

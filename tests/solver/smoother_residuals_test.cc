@@ -1,6 +1,7 @@
 // Residuals of the smoother: each one is zero at a consistent state, non-zero away from it, and
-// its Jacobians (automatic differentiation, in the manifold tangent spaces) agree with finite
-// differences (ceres::GradientChecker).
+// its Jacobians (analytic or automatic differentiation, in the manifold tangent spaces) agree with
+// central differences (tests/test_support.h). The IMU factor's analytic Jacobians are checked more
+// widely in imu_factor_jacobian_test.cc.
 #include <ceres/manifold.h>
 #include <ceres/sphere_manifold.h>
 #include <gtest/gtest.h>
@@ -53,7 +54,7 @@ Eigen::VectorXd Evaluate(const ceres::CostFunction& cost, Blocks& blocks) {
   return r;
 }
 
-// Jacobians of the cost function (automatic differentiation, mapped into each block's tangent
+// Jacobians of the cost function (analytic or autodiff, mapped into each block's tangent
 // space with the manifold's PlusJacobian) against central differences of r(x [+] delta) with the
 // shared helper.
 void ExpectJacobiansCorrect(const ceres::CostFunction& cost, Blocks& blocks,

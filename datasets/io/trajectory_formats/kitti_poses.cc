@@ -25,18 +25,21 @@ std::string KittiFieldName(size_t k) {
 KittiRowsResult ParseKittiRows(const TrajectoryText& text) {
   if (text.rows.empty()) throw InputError(text.path, 0, "", "file has no data rows");
   KittiRowsResult result;
+  result.poses.reserve(text.rows.size());
+  result.lines.reserve(text.rows.size());
+  std::vector<std::string_view> fields;
   for (const TrajectoryRow& row : text.rows) {
-    if (row.fields.size() != 12)
-      throw InputError(text.path, row.line,
-                       row.fields.size() < 12 ? KittiFieldName(row.fields.size()) : "column 13",
-                       fmt::format("expected 12 fields (KITTI: 3x4 pose, row-major), found {}",
-                                   row.fields.size()));
+    text.Fields(row, &fields);
+    if (fields.size() != 12)
+      throw InputError(
+          text.path, row.line, fields.size() < 12 ? KittiFieldName(fields.size()) : "column 13",
+          fmt::format("expected 12 fields (KITTI: 3x4 pose, row-major), found {}", fields.size()));
     Eigen::Matrix<double, 3, 4> T;
     for (size_t k = 0; k < 12; ++k) {
-      const ParsedNumber<double> value = ParseDoubleText(row.fields[k]);
+      const ParsedNumber<double> value = ParseDoubleText(fields[k]);
       if (!value.ok())
         throw InputError(text.path, row.line, KittiFieldName(k),
-                         DescribeNumberText(row.fields[k], value, "a finite number"));
+                         DescribeNumberText(fields[k], value, "a finite number"));
       T(k / 4, k % 4) = value.value;
     }
     const Eigen::Matrix3d R = T.leftCols<3>();
@@ -66,15 +69,19 @@ KittiTimes ReadKittiTimes(const std::string& path) {
   const TrajectoryText text = ReadTrajectoryText(path);
   if (text.rows.empty()) throw InputError(path, 0, "", "times file has no data rows");
   KittiTimes times;
+  times.t_ns.reserve(text.rows.size());
+  times.lines.reserve(text.rows.size());
+  std::vector<std::string_view> fields;
   for (const TrajectoryRow& row : text.rows) {
-    if (row.fields.size() != 1)
+    text.Fields(row, &fields);
+    if (fields.size() != 1)
       throw InputError(
           path, row.line, "column 2",
-          fmt::format("expected 1 field (one stamp [s] per line), found {}", row.fields.size()));
+          fmt::format("expected 1 field (one stamp [s] per line), found {}", fields.size()));
     TimeNs t = 0;
-    if (!ParseSecondsAsNs(row.fields[0], &t))
+    if (!ParseSecondsAsNs(fields[0], &t))
       throw InputError(path, row.line, "timestamp",
-                       DescribeBadStamp(row.fields[0], true, "KITTI times file"));
+                       DescribeBadStamp(std::string(fields[0]), true, "KITTI times file"));
     times.t_ns.push_back(t);
     times.lines.push_back(row.line);
   }

@@ -193,8 +193,8 @@ bool NamesStampAndPosition(const TrajectoryText& text) {
 
 // A comma row's stamp written with a decimal point is in seconds: the row is TUM's, not EuRoC's
 // (whose stamps are integer nanoseconds).
-bool DecimalStamp(const TrajectoryRow& row) {
-  return !row.fields.empty() && row.fields[0].find('.') != std::string::npos;
+bool DecimalStamp(const std::vector<std::string_view>& fields) {
+  return !fields.empty() && fields[0].find('.') != std::string_view::npos;
 }
 
 // OpenVINS ov_msckf's state file names groups, not columns: "timestamp(s) q p v bg ba ...".
@@ -333,12 +333,13 @@ std::optional<PoseColumnLayout> LayoutFromHeader(const TrajectoryText& text) {
   } else if (tum_names || !text.comma_separated)
     l.unit = StampUnit::kSeconds;
   else {
-    const std::string first =
-        text.rows.empty() || static_cast<size_t>(l.t) >= text.rows[0].fields.size()
-            ? ""
-            : text.rows[0].fields[l.t];
-    l.unit = first.find_first_not_of("0123456789") == std::string::npos ? StampUnit::kNanoseconds
-                                                                        : StampUnit::kSeconds;
+    const std::vector<std::string_view> fields =
+        text.rows.empty() ? std::vector<std::string_view>() : text.Fields(text.rows[0]);
+    const std::string_view first =
+        static_cast<size_t>(l.t) >= fields.size() ? std::string_view() : fields[l.t];
+    l.unit = first.find_first_not_of("0123456789") == std::string_view::npos
+                 ? StampUnit::kNanoseconds
+                 : StampUnit::kSeconds;
   }
   if (euroc_names) l.format = TrajectoryFormat::kEuroc;
   if (tum_names && !text.comma_separated) l.format = TrajectoryFormat::kTum;
@@ -352,7 +353,8 @@ TrajectoryFormat DetectTrajectoryFormat(const TrajectoryText& text) {
   if (text.rows.empty()) throw InputError(text.path, 0, "", "file has no data rows");
   if (auto layout = LayoutFromHeader(text)) return layout->format;
   const TrajectoryRow& first = text.rows.front();
-  const size_t n = first.fields.size();
+  const std::vector<std::string_view> first_fields = text.Fields(first);
+  const size_t n = first_fields.size();
   if (NamesStampAndPosition(text))
     throw InputError(text.path, 0, "",
                      "the header '" + text.header_line +
@@ -368,14 +370,14 @@ TrajectoryFormat DetectTrajectoryFormat(const TrajectoryText& text) {
                                  "--in-format (convert)",
                                  n));
   }
-  if (DecimalStamp(first)) {
+  if (DecimalStamp(first_fields)) {
     if (n == 8 || n == 20) return TrajectoryFormat::kTum;
     throw InputError(text.path, first.line, "",
                      fmt::format("a comma row whose stamp '{}' has a decimal point is a TUM row in "
                                  "seconds (8 fields: timestamp tx ty tz qx qy qz qw), but this one "
                                  "has {}; name the columns in a header line (e.g. "
                                  "'#timestamp [s],x,y,z,qw,qx,qy,qz')",
-                                 first.fields[0], n));
+                                 first_fields[0], n));
   }
   if (n >= 8) return TrajectoryFormat::kEuroc;
   throw InputError(text.path, first.line, "",

@@ -21,19 +21,20 @@ namespace mavloc {
 
 namespace {
 
-struct RowState {
-  GroundTruthState state;
+// One data row being parsed: its line and its fields (views into the file's text).
+struct PoseRowFields {
   long line = 0;
+  std::vector<std::string_view> fields;
 };
 
-double Number(const std::string& path, const TrajectoryRow& row, const PoseColumnLayout& layout,
+double Number(const std::string& path, const PoseRowFields& row, const PoseColumnLayout& layout,
               int column) {
   return RequireDoubleText(row.fields[column], path, row.line, layout.Name(column));
 }
 
 // The row's attitude: its quaternion (normalised within kQuaternionNormTolerance, counted in the
 // report when it was off by more than 1e-6), or its roll, pitch and yaw.
-Eigen::Quaterniond Attitude(const std::string& path, const TrajectoryRow& row,
+Eigen::Quaterniond Attitude(const std::string& path, const PoseRowFields& row,
                             const PoseColumnLayout& layout, TrajectoryReadReport* report) {
   if (!layout.HasQuaternion()) {
     EulerRpy rpy;
@@ -58,7 +59,7 @@ Eigen::Quaterniond Attitude(const std::string& path, const TrajectoryRow& row,
 
 // Throws unless the row has as many fields as the layout needs (exactly, for TUM's 8 or 20),
 // naming the first missing or first extra column.
-void RequireFieldCount(const std::string& path, const TrajectoryRow& row,
+void RequireFieldCount(const std::string& path, const PoseRowFields& row,
                        const PoseColumnLayout& layout) {
   const size_t n = row.fields.size();
   if (layout.exact_fields > 0 && n != layout.exact_fields)
@@ -72,7 +73,7 @@ void RequireFieldCount(const std::string& path, const TrajectoryRow& row,
 }
 
 // Three columns, each within +-max_abs (a sanity range of core/physical_limits.h).
-Eigen::Vector3d Vector(const std::string& path, const TrajectoryRow& row,
+Eigen::Vector3d Vector(const std::string& path, const PoseRowFields& row,
                        const PoseColumnLayout& layout, const std::array<int, 3>& columns,
                        double max_abs, const char* unit) {
   Eigen::Vector3d v;
@@ -80,11 +81,17 @@ Eigen::Vector3d Vector(const std::string& path, const TrajectoryRow& row,
     v[i] = Number(path, row, layout, columns[i]);
     if (!(std::abs(v[i]) <= max_abs))
       throw InputError(path, row.line, layout.Name(columns[i]),
-                       "'" + row.fields[columns[i]] + "' is outside " +
+                       "'" + std::string(row.fields[columns[i]]) + "' is outside " +
                            limits::RangeText(-max_abs, max_abs, unit));
   }
   return v;
 }
+
+// The rows of a file as they are read, before ordering: states and their lines, index by index.
+struct ParsedRows {
+  std::vector<GroundTruthState> states;
+  std::vector<long> lines;
+};
 
 // "TUM", "EuRoC", ... for messages.
 std::string FormatDisplayName(TrajectoryFormat format) {
@@ -104,7 +111,7 @@ std::string FormatDisplayName(TrajectoryFormat format) {
 
 PoseColumnLayout ChooseLayout(const TrajectoryText& text, TrajectoryFormat format, bool forced) {
   const auto by_header = LayoutFromHeader(text);
-  const size_t fields = text.rows.front().fields.size();
+  const size_t fields = text.Fields(text.rows.front()).size();
   if (!forced && by_header) return *by_header;
   switch (format) {
     case TrajectoryFormat::kTum:
@@ -146,10 +153,11 @@ void RequirePlausibleNanoseconds(const TrajectoryText& text, const PoseColumnLay
   if (layout.unit != StampUnit::kNanoseconds || layout.unit_stated) return;
   std::vector<TimeNs> stamps;
   stamps.reserve(text.rows.size());
+  std::vector<std::string_view> fields;
   for (const TrajectoryRow& row : text.rows) {
+    text.Fields(row, &fields);
     TimeNs t_ns = 0;
-    if (static_cast<size_t>(layout.t) < row.fields.size() &&
-        ParseNanoseconds(row.fields[layout.t], &t_ns))
+    if (static_cast<size_t>(layout.t) < fields.size() && ParseNanoseconds(fields[layout.t], &t_ns))
       stamps.push_back(t_ns);
   }
   const std::string why = SecondsReadAsNanoseconds(stamps);
@@ -158,83 +166,102 @@ void RequirePlausibleNanoseconds(const TrajectoryText& text, const PoseColumnLay
                      "not read as " + layout.description + ": " + why);
 }
 
-std::vector<RowState> ParsePoseRows(const TrajectoryText& text, const PoseColumnLayout& layout,
-                                    TrajectoryReadReport* report) {
+ParsedRows ParsePoseRows(const TrajectoryText& text, const PoseColumnLayout& layout,
+                         TrajectoryReadReport* report) {
   RequirePlausibleNanoseconds(text, layout);
-  std::vector<RowState> rows;
-  rows.reserve(text.rows.size());
-  for (const TrajectoryRow& row : text.rows) {
+  ParsedRows rows;
+  rows.states.reserve(text.rows.size());
+  rows.lines.reserve(text.rows.size());
+  PoseRowFields row;
+  for (const TrajectoryRow& text_row : text.rows) {
+    row.line = text_row.line;
+    text.Fields(text_row, &row.fields);
     RequireFieldCount(text.path, row, layout);
-    RowState r;
-    r.line = row.line;
-    const std::string& stamp = row.fields[layout.t];
-    const bool ok = layout.unit == StampUnit::kSeconds ? ParseSecondsAsNs(stamp, &r.state.t_ns)
-                                                       : ParseNanoseconds(stamp, &r.state.t_ns);
+    GroundTruthState& state = rows.states.emplace_back();
+    rows.lines.push_back(row.line);
+    const std::string_view stamp = row.fields[layout.t];
+    const bool ok = layout.unit == StampUnit::kSeconds ? ParseSecondsAsNs(stamp, &state.t_ns)
+                                                       : ParseNanoseconds(stamp, &state.t_ns);
     if (!ok)
       throw InputError(text.path, row.line, layout.Name(layout.t),
-                       DescribeBadStamp(stamp, layout.unit == StampUnit::kSeconds,
+                       DescribeBadStamp(std::string(stamp), layout.unit == StampUnit::kSeconds,
                                         FormatDisplayName(layout.format)));
-    r.state.T_W_B.p = Vector(text.path, row, layout, layout.p, limits::kMaxPosition_m, "m");
-    r.state.T_W_B.q = Attitude(text.path, row, layout, report);
+    state.T_W_B.p = Vector(text.path, row, layout, layout.p, limits::kMaxPosition_m, "m");
+    state.T_W_B.q = Attitude(text.path, row, layout, report);
     if (layout.HasVelocity())
-      r.state.v_W = Vector(text.path, row, layout, layout.v, limits::kMaxSpeed_m_s, "m/s");
+      state.v_W = Vector(text.path, row, layout, layout.v, limits::kMaxSpeed_m_s, "m/s");
     if (layout.HasBiases()) {
-      r.state.b_g = Vector(text.path, row, layout, layout.b_g, limits::kMaxGyroBias_rad_s, "rad/s");
-      r.state.b_a = Vector(text.path, row, layout, layout.b_a, limits::kMaxAccelBias_m_s2, "m/s^2");
+      state.b_g = Vector(text.path, row, layout, layout.b_g, limits::kMaxGyroBias_rad_s, "rad/s");
+      state.b_a = Vector(text.path, row, layout, layout.b_a, limits::kMaxAccelBias_m_s2, "m/s^2");
     }
-    rows.push_back(r);
   }
   report->has_velocity = layout.HasVelocity();
   report->has_biases = layout.HasBiases();
   return rows;
 }
 
-// Rows in time order with unique stamps (rules in trajectory_format.h). stamp_path / stamp_field
-// name where the stamps came from (the times file for KITTI).
-std::vector<GroundTruthState> OrderRows(std::vector<RowState> rows, const std::string& stamp_path,
+// Rows in time order with unique stamps (rules in trajectory_format.h), in place: sorted (stable)
+// only when sorting was asked for and a row is out of order, repeated stamps removed by moving the
+// kept rows forward. stamp_path / stamp_field name where the stamps came from (the times file for
+// KITTI).
+std::vector<GroundTruthState> OrderRows(ParsedRows rows, const std::string& stamp_path,
                                         const std::string& stamp_field,
                                         const TrajectoryReadOptions& options,
                                         TrajectoryReadReport* report) {
+  std::vector<GroundTruthState>& states = rows.states;
+  std::vector<long>& lines = rows.lines;
   if (options.sort) {
     report->sorted = true;
     TimeNs latest = 0;
-    bool first = true;
-    for (const auto& r : rows) {
-      if (!first && r.state.t_ns < latest) {
+    for (size_t i = 0; i < states.size(); ++i) {
+      if (i > 0 && states[i].t_ns < latest) {
         ++report->rows_out_of_order;
-        if (report->first_out_of_order_line == 0) report->first_out_of_order_line = r.line;
+        if (report->first_out_of_order_line == 0) report->first_out_of_order_line = lines[i];
       }
-      latest = first ? r.state.t_ns : std::max(latest, r.state.t_ns);
-      first = false;
+      latest = i == 0 ? states[i].t_ns : std::max(latest, states[i].t_ns);
     }
-    std::stable_sort(rows.begin(), rows.end(), [](const RowState& a, const RowState& b) {
-      return a.state.t_ns < b.state.t_ns;
-    });
+    if (report->rows_out_of_order > 0) {
+      std::vector<size_t> order(states.size());
+      std::iota(order.begin(), order.end(), size_t{0});
+      std::stable_sort(order.begin(), order.end(),
+                       [&](size_t a, size_t b) { return states[a].t_ns < states[b].t_ns; });
+      std::vector<GroundTruthState> sorted_states;
+      std::vector<long> sorted_lines;
+      sorted_states.reserve(states.size());
+      sorted_lines.reserve(states.size());
+      for (size_t i : order) {
+        sorted_states.push_back(states[i]);
+        sorted_lines.push_back(lines[i]);
+      }
+      states = std::move(sorted_states);
+      lines = std::move(sorted_lines);
+    }
   }
-  std::vector<GroundTruthState> states;
-  states.reserve(rows.size());
-  for (size_t i = 0; i < rows.size(); ++i) {
-    const RowState& r = rows[i];
-    if (!states.empty()) {
-      const TimeNs previous = states.back().t_ns;
-      if (r.state.t_ns < previous)
-        throw InputError(stamp_path, r.line, stamp_field,
+  size_t kept = 0;
+  for (size_t i = 0; i < states.size(); ++i) {
+    if (kept > 0) {
+      const TimeNs previous = states[kept - 1].t_ns;
+      const TimeNs t_ns = states[i].t_ns;
+      if (t_ns < previous)
+        throw InputError(stamp_path, lines[i], stamp_field,
                          fmt::format("timestamp {} is earlier than the previous row's ({}); "
                                      "--sort sorts the rows",
-                                     r.state.t_ns, previous));
-      if (r.state.t_ns == previous) {
+                                     t_ns, previous));
+      if (t_ns == previous) {
         if (options.refuse_duplicates)
-          throw InputError(stamp_path, r.line, stamp_field,
-                           "duplicate timestamp " + std::to_string(r.state.t_ns));
+          throw InputError(stamp_path, lines[i], stamp_field,
+                           "duplicate timestamp " + std::to_string(t_ns));
         ++report->duplicates_dropped;
-        if (report->first_duplicate_line == 0 || r.line < report->first_duplicate_line)
-          report->first_duplicate_line = r.line;
+        if (report->first_duplicate_line == 0 || lines[i] < report->first_duplicate_line)
+          report->first_duplicate_line = lines[i];
         continue;
       }
     }
-    states.push_back(r.state);
+    if (kept != i) states[kept] = states[i];
+    ++kept;
   }
-  return states;
+  states.resize(kept);
+  return std::move(states);
 }
 
 }  // namespace
@@ -304,7 +331,7 @@ std::vector<StampedPose> LoadedTrajectory::Poses() const {
 LoadedTrajectory ReadTrajectory(const std::string& path, const TrajectoryReadOptions& options) {
   if (const auto log_topic = ParseLogTopicSpec(path))
     return ReadLogTopicTrajectory(*log_topic, path, options);
-  const TrajectoryText text = ReadTrajectoryText(path);
+  TrajectoryText text = ReadTrajectoryText(path);
   if (text.rows.empty()) throw InputError(path, 0, "", "file has no data rows");
   LoadedTrajectory out;
   TrajectoryReadReport& report = out.report;
@@ -321,7 +348,9 @@ LoadedTrajectory ReadTrajectory(const std::string& path, const TrajectoryReadOpt
 
   if (report.format == TrajectoryFormat::kKitti) {
     const KittiRowsResult kitti = ParseKittiRows(text);
-    std::vector<RowState> rows(kitti.poses.size());
+    ParsedRows rows;
+    rows.states.resize(kitti.poses.size());
+    rows.lines.resize(kitti.poses.size());
     std::string stamp_path = path, stamp_field = "index";
     if (!options.times_path.empty()) {
       const KittiTimes times = ReadKittiTimes(options.times_path);
@@ -329,21 +358,21 @@ LoadedTrajectory ReadTrajectory(const std::string& path, const TrajectoryReadOpt
         throw InputError(options.times_path, 0, "",
                          fmt::format("has {} stamps but '{}' has {} poses", times.t_ns.size(), path,
                                      kitti.poses.size()));
-      for (size_t i = 0; i < rows.size(); ++i) {
-        rows[i].state.t_ns = times.t_ns[i];
-        rows[i].line = times.lines[i];
+      for (size_t i = 0; i < rows.states.size(); ++i) {
+        rows.states[i].t_ns = times.t_ns[i];
+        rows.lines[i] = times.lines[i];
       }
       stamp_path = options.times_path;
       stamp_field = "timestamp";
       report.times_path = options.times_path;
     } else {
       report.has_stamps = false;
-      for (size_t i = 0; i < rows.size(); ++i) {
-        rows[i].state.t_ns = static_cast<TimeNs>(i) * kNsPerSecond;
-        rows[i].line = kitti.lines[i];
+      for (size_t i = 0; i < rows.states.size(); ++i) {
+        rows.states[i].t_ns = static_cast<TimeNs>(i) * kNsPerSecond;
+        rows.lines[i] = kitti.lines[i];
       }
     }
-    for (size_t i = 0; i < rows.size(); ++i) rows[i].state.T_W_B = kitti.poses[i];
+    for (size_t i = 0; i < rows.states.size(); ++i) rows.states[i].T_W_B = kitti.poses[i];
     report.quaternions_normalised = kitti.rotations_projected;
     report.max_quaternion_norm_error = kitti.max_orthonormality_error;
     report.layout =
@@ -359,7 +388,9 @@ LoadedTrajectory ReadTrajectory(const std::string& path, const TrajectoryReadOpt
   report.format = layout.format == TrajectoryFormat::kAsl || !report.format_forced ? layout.format
                                                                                    : report.format;
   report.layout = layout.description;
-  std::vector<RowState> rows = ParsePoseRows(text, layout, &report);
+  ParsedRows rows = ParsePoseRows(text, layout, &report);
+  // The file's bytes are not needed any more: freed before the rows are ordered.
+  text = TrajectoryText();
   out.states = OrderRows(std::move(rows), path, layout.Name(layout.t), options, &report);
   return out;
 }

@@ -23,7 +23,9 @@ constexpr TimeNs kMinNanosecondSpacing_ns = 10;
 // as seconds are taken for seconds.
 constexpr TimeNs kMinDatedSpacing_ns = 1000;
 
-bool Digits(const std::string& s) { return s.find_first_not_of("0123456789") == std::string::npos; }
+bool Digits(std::string_view s) {
+  return s.find_first_not_of("0123456789") == std::string_view::npos;
+}
 
 double MaxTimestampSeconds() { return static_cast<double>(limits::kMaxTimestampNs) * 1e-9; }
 
@@ -56,17 +58,20 @@ std::string Beyond(const std::string& text, bool seconds) {
 
 }  // namespace
 
-bool ParseSecondsAsNs(const std::string& text, TimeNs* t_ns) {
-  const std::string body = !text.empty() && text[0] == '+' ? text.substr(1) : text;
-  const auto dot = body.find('.');
-  const std::string integer = body.substr(0, dot);
-  const std::string fraction = dot == std::string::npos ? "" : body.substr(dot + 1);
+bool ParseSecondsAsNs(std::string_view text, TimeNs* t_ns) {
+  const std::string_view body = !text.empty() && text[0] == '+' ? text.substr(1) : text;
+  const size_t dot = body.find('.');
+  const std::string_view integer = body.substr(0, dot);
+  const std::string_view fraction =
+      dot == std::string_view::npos ? std::string_view() : body.substr(dot + 1);
   if (!integer.empty() && Digits(integer) && Digits(fraction) && integer.size() < 11) {
     const long long whole_s = ParseIntegerText(integer).value;  // at most 10 digits: no overflow
     if (whole_s >= limits::kMaxTimestampNs / kNsPerSecond) return false;
-    std::string nanos = fraction.substr(0, 9);
-    nanos.resize(9, '0');
-    TimeNs t = whole_s * kNsPerSecond + ParseIntegerText(nanos).value;
+    // The first 9 fraction digits as nanoseconds (missing digits are zeros).
+    TimeNs nanos = 0;
+    for (size_t k = 0; k < 9; ++k)
+      nanos = 10 * nanos + (k < fraction.size() ? fraction[k] - '0' : 0);
+    TimeNs t = whole_s * kNsPerSecond + nanos;
     if (fraction.size() > 9 && fraction[9] >= '5') ++t;
     *t_ns = t;
     return true;
@@ -79,7 +84,7 @@ bool ParseSecondsAsNs(const std::string& text, TimeNs* t_ns) {
   return true;
 }
 
-bool ParseNanoseconds(const std::string& text, TimeNs* t_ns) {
+bool ParseNanoseconds(std::string_view text, TimeNs* t_ns) {
   if (!text.empty() && Digits(text) && text.size() <= 18) {
     *t_ns = ParseIntegerText(text).value;  // at most 18 digits: no overflow
     return *t_ns <= limits::kMaxTimestampNs;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/time.h"
@@ -13,8 +14,8 @@ namespace mavloc {
 
 // false when the text is not a finite, non-negative number or lies beyond limits::kMaxTimestampNs
 // (core/physical_limits.h).
-bool ParseSecondsAsNs(const std::string& text, TimeNs* t_ns);
-bool ParseNanoseconds(const std::string& text, TimeNs* t_ns);
+bool ParseSecondsAsNs(std::string_view text, TimeNs* t_ns);
+bool ParseNanoseconds(std::string_view text, TimeNs* t_ns);
 // Why one of them refused `text` (in seconds or nanoseconds), for a message. `format` names the
 // file's format ("TUM") for the hint given when stamps that must be seconds are nanoseconds,
 // microseconds or milliseconds since 1970: "'1403636579763555584' is not a time in seconds: TUM
