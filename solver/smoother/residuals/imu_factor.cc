@@ -75,18 +75,7 @@ using imu_factor::RowMajor9x3;
 
 ImuFactor::ImuFactor(const ImuPreintegration& preintegration,
                      const Eigen::Matrix<double, 9, 9>& sqrt_information)
-    : delta_q_(preintegration.delta_q()),
-      delta_v_(preintegration.delta_v()),
-      delta_p_(preintegration.delta_p()),
-      J_R_bg_(preintegration.J_R_bg()),
-      J_v_bg_(preintegration.J_v_bg()),
-      J_v_ba_(preintegration.J_v_ba()),
-      J_p_bg_(preintegration.J_p_bg()),
-      J_p_ba_(preintegration.J_p_ba()),
-      b_g0_(preintegration.linearization_biases().b_g),
-      b_a0_(preintegration.linearization_biases().b_a),
-      dt_s_(preintegration.dt_s()),
-      sqrt_information_(sqrt_information) {
+    : ImuFactorTerms(preintegration, sqrt_information) {
   const auto S_v = sqrt_information_.middleCols<3>(3);
   const auto S_p = sqrt_information_.rightCols<3>();
   S_J_bg_vp_ = -(S_v * J_v_bg_ + S_p * J_p_bg_);

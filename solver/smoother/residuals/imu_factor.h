@@ -36,7 +36,34 @@
 
 namespace mavloc {
 
-class ImuFactor : public ceres::SizedCostFunction<9, 4, 3, 3, 3, 3, 4, 3, 3> {
+// The preintegrated measurement, its bias Jacobians and linearization biases, and the whitening:
+// what both versions of the factor read.
+struct ImuFactorTerms {
+  ImuFactorTerms(const ImuPreintegration& preintegration,
+                 const Eigen::Matrix<double, 9, 9>& sqrt_information)
+      : delta_q_(preintegration.delta_q()),
+        delta_v_(preintegration.delta_v()),
+        delta_p_(preintegration.delta_p()),
+        J_R_bg_(preintegration.J_R_bg()),
+        J_v_bg_(preintegration.J_v_bg()),
+        J_v_ba_(preintegration.J_v_ba()),
+        J_p_bg_(preintegration.J_p_bg()),
+        J_p_ba_(preintegration.J_p_ba()),
+        b_g0_(preintegration.linearization_biases().b_g),
+        b_a0_(preintegration.linearization_biases().b_a),
+        dt_s_(preintegration.dt_s()),
+        sqrt_information_(sqrt_information) {}
+
+  Eigen::Quaterniond delta_q_;
+  Eigen::Vector3d delta_v_, delta_p_;
+  Eigen::Matrix3d J_R_bg_, J_v_bg_, J_v_ba_, J_p_bg_, J_p_ba_;
+  Eigen::Vector3d b_g0_, b_a0_;
+  double dt_s_;
+  Eigen::Matrix<double, 9, 9> sqrt_information_;
+};
+
+class ImuFactor : public ceres::SizedCostFunction<9, 4, 3, 3, 3, 3, 4, 3, 3>,
+                  private ImuFactorTerms {
  public:
   ImuFactor(const ImuPreintegration& preintegration,
             const Eigen::Matrix<double, 9, 9>& sqrt_information);
@@ -50,32 +77,15 @@ class ImuFactor : public ceres::SizedCostFunction<9, 4, 3, 3, 3, 3, 4, 3, 3> {
   }
 
  private:
-  Eigen::Quaterniond delta_q_;
-  Eigen::Vector3d delta_v_, delta_p_;
-  Eigen::Matrix3d J_R_bg_, J_v_bg_, J_v_ba_, J_p_bg_, J_p_ba_;
-  Eigen::Vector3d b_g0_, b_a0_;
-  double dt_s_;
-  Eigen::Matrix<double, 9, 9> sqrt_information_;
   // Constant parts of the whitened Jacobians: S (0, -J_v_bg, -J_p_bg), S (0, -J_v_ba, -J_p_ba).
   Eigen::Matrix<double, 9, 3> S_J_bg_vp_, S_J_ba_;
 };
 
-class ImuFactorAutoDiff {
+class ImuFactorAutoDiff : private ImuFactorTerms {
  public:
   ImuFactorAutoDiff(const ImuPreintegration& preintegration,
                     const Eigen::Matrix<double, 9, 9>& sqrt_information)
-      : delta_q_(preintegration.delta_q()),
-        delta_v_(preintegration.delta_v()),
-        delta_p_(preintegration.delta_p()),
-        J_R_bg_(preintegration.J_R_bg()),
-        J_v_bg_(preintegration.J_v_bg()),
-        J_v_ba_(preintegration.J_v_ba()),
-        J_p_bg_(preintegration.J_p_bg()),
-        J_p_ba_(preintegration.J_p_ba()),
-        b_g0_(preintegration.linearization_biases().b_g),
-        b_a0_(preintegration.linearization_biases().b_a),
-        dt_s_(preintegration.dt_s()),
-        sqrt_information_(sqrt_information) {}
+      : ImuFactorTerms(preintegration, sqrt_information) {}
 
   template <typename T>
   bool operator()(const T* q_i_ptr, const T* p_i_ptr, const T* v_i_ptr, const T* b_g_ptr,
@@ -124,14 +134,6 @@ class ImuFactorAutoDiff {
     return new ceres::AutoDiffCostFunction<ImuFactorAutoDiff, 9, 4, 3, 3, 3, 3, 4, 3, 3>(
         new ImuFactorAutoDiff(preintegration, sqrt_information));
   }
-
- private:
-  Eigen::Quaterniond delta_q_;
-  Eigen::Vector3d delta_v_, delta_p_;
-  Eigen::Matrix3d J_R_bg_, J_v_bg_, J_v_ba_, J_p_bg_, J_p_ba_;
-  Eigen::Vector3d b_g0_, b_a0_;
-  double dt_s_;
-  Eigen::Matrix<double, 9, 9> sqrt_information_;
 };
 
 }  // namespace mavloc
