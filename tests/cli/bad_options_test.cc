@@ -91,6 +91,8 @@ std::vector<Case> Cases() {
        {"--option min_ambiguity_ratio=-1", "[0, inf)"}},
       {"run --dataset nowhere --estimator pnp --out o.txt --option ransac=1 --option bogus=1",
        {"bogus"}},
+      {"run --dataset nowhere --estimator tag-pnp --out o.txt --option map_check=2",
+       {"map_check", "2"}},
       // eval: every numeric option.
       {"eval --gt gt.txt --est est.txt --rpe-distance -1", {"--rpe-distance", "-1"}},
       {"eval --gt gt.txt --est est.txt --rpe-distance inf", {"--rpe-distance", "inf"}},
@@ -135,6 +137,10 @@ std::vector<Case> Cases() {
       {"detect-tags --images img --out o.csv --threads 0", {"--threads", "'0'"}},
       {"detect-tags --images img --out o.csv --sigma -1", {"--sigma", "-1"}},
       {"detect-tags --images img --out o.csv --sharpening inf", {"--sharpening", "inf"}},
+      {"detect-tags --images img --out o.csv --target t.yaml",
+       {"--target t.yaml", "--family aprilgrid"}},
+      {"detect-tags --family aprilgrid --images img --out o.csv --target missing.yaml",
+       {"missing.yaml"}},
       // obstacles.
       {"obstacles --dataset d --report r --set bogus_key=1", {"--set bogus_key=1", "matcher"}},
       {"obstacles --dataset d --report r --option rate_hz=1",
