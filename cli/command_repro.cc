@@ -37,11 +37,11 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
   command
       ->add_option(
           "--jobs", args->jobs,
-          "Worker processes (reproductions that run as units: smoother, three-point, laser; "
-          "default: the core count). The numbers do not depend on it")
+          "Worker processes (every reproduction but euroc-imu-april; default: the core count). "
+          "The numbers do not depend on it")
       ->check(WholeNumber(1, 1024));
   command->callback([args, exit_code] {
-    const ReproEntry* entry = FindRepro(args->name);
+    const ReproDefinition* entry = FindRepro(args->name);
     if (!entry) {
       std::string known;
       for (const auto& e : ReproRegistry()) known += (known.empty() ? "" : ", ") + e.name;
@@ -66,7 +66,7 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
     // Written whole into a fresh folder, then renamed into place (cli/output_folder.h).
     StagedFolder report(args->report, FolderKind::kReport, args->force);
     options.report_dir = report.path();
-    *exit_code = entry->run(options);
+    *exit_code = RunRepro(*entry, options);
     const FigureOutcome figures = WriteReportFigures(report.path(), report.ForUser(report.path()));
     report.Commit();
     std::printf("report written to %s/\n%s\n", args->report.c_str(),

@@ -71,6 +71,10 @@ const std::map<std::string, OptionRange>& OptionRanges() {
       {"reacquire_pos_sigma", {0.0, kUnbounded, true, "m"}},
       {"ransac_threshold_px", {0.0, limits::kMaxPixelCoordinate, true, "px"}},
       {"min_ambiguity_ratio", {0.0, kUnbounded, false, ""}},
+      {"refine_sigma_m", {0.0, kUnbounded, true, "m"}},
+      {"refine_sigma_rad", {0.0, kUnbounded, true, "rad"}},
+      {"refine_loss_px", {0.0, limits::kMaxPixelCoordinate, true, "px"}},
+      {"refine_gate_px", {0.0, limits::kMaxPixelCoordinate, true, "px"}},
       {"reacquire_vel_sigma", {0.0, kUnbounded, true, "m/s"}},
       {"reacquire_att_sigma", {0.0, kUnbounded, true, "rad"}},
       {"position_sigma_m", {0.0, kUnbounded, false, "m"}},
@@ -169,6 +173,9 @@ const std::set<std::string> kGravityEkf = {"gyro_noise_density", "accel_noise_de
 const std::set<std::string> kBoardInit = {"gravity_init_s", "gravity_min_tags"};
 const std::set<std::string> kCornerRansac = {"ransac",     "ransac_threshold_px", "ransac_min_tags",
                                              "single_tag", "min_ambiguity_ratio", "map_check"};
+// Tag map refinement (ParseTagMapRefineOptions, solver/pose/tag_map_refine.cc).
+const std::set<std::string> kTagMapRefine = {"refine_map",  "refine_sigma_m", "refine_sigma_rad",
+                                             "refine_loss", "refine_loss_px", "refine_gate_px"};
 // Roll/pitch source (ParseRollPitchSourceOptions, solver/pixhawk/roll_pitch_source.cc).
 const std::set<std::string> kRollPitchSource = {"attitude", "attitude_error_deg",
                                                 "attitude_error_tau_s", "attitude_error_seed",
@@ -217,7 +224,7 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
            "normal_random_walk", "gate_sigmas", "bias_from_ground_truth", "lever_arm"}),
       Entry<TagPnpEstimator>(
           "tag-pnp", "AprilTag paper III-A baseline: vision-only PnP on the tags (+ RANSAC)",
-          Keys({kBoardInit, kCornerRansac, {"camera"}})),
+          Keys({kBoardInit, kCornerRansac, kTagMapRefine, {"camera"}})),
       ImuEntry<TagEkfEstimator>(
           "tag-ekf", "AprilTag paper II-III: 15-state EKF, per-tag updates, delay handling",
           Keys({kBoardInit,

@@ -6,12 +6,13 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "core/aprilgrid.h"
+#include "core/atomic_file.h"
 #include "core/board_frame.h"
 #include "core/errors.h"
+#include "core/image_codec.h"
 #include "core/interrupt.h"
 #include "core/number_text.h"
 #include "core/progress.h"
@@ -392,8 +393,7 @@ Dataset GenerateAprilgridCalibration(const ScenarioOptions& options) {
         const cv::Mat image = renderer.Render({T_W_C}, SplitMix64(seeds.camera + 7919 * i + c));
         frame.image_path =
             (std::filesystem::path(folder) / fmt::format("cam{}_{}.png", c, frame.t_ns)).string();
-        if (!cv::imwrite(frame.image_path, image))
-          throw InputError(frame.image_path, 0, "", "cannot write rendered image");
+        WriteFileAtomically(frame.image_path, EncodePng(image));
         if (i % 50 == 0)
           ReportProgress("render", fmt::format("{} cam{} frame {}/{}", kAprilgridCalibration, c,
                                                i + 1, d.cameras[c].frames.size()));

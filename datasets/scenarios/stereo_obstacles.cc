@@ -6,9 +6,10 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 
+#include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/image_codec.h"
 #include "core/interrupt.h"
 #include "core/progress.h"
 #include "core/random.h"
@@ -157,8 +158,7 @@ void RenderFrames(const Dataset& d, const StereoRoom& room, const ObstacleSettin
       const cv::Mat image =
           renderer.Render(T_W_B_frames[i] * camera.T_B_C, SplitMix64(camera_seed + 2 * i + c));
       frame.image_path = (camera_folder / fmt::format("{}.png", frame.t_ns)).string();
-      if (!cv::imwrite(frame.image_path, image))
-        throw InputError(frame.image_path, 0, "", "cannot write rendered image");
+      WriteFileAtomically(frame.image_path, EncodePng(image));
       if (i % 50 == 0)
         ReportProgress("render", fmt::format("{} {} frame {}/{}", d.scenario, camera.name, i + 1,
                                              camera.frames.size()));

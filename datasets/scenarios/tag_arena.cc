@@ -7,9 +7,10 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
 
+#include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/image_codec.h"
 #include "core/interrupt.h"
 #include "core/progress.h"
 #include "core/random.h"
@@ -106,8 +107,7 @@ void RenderFrames(const Trajectory& trajectory, const std::map<int, TagInfo>& ta
     }
     const cv::Mat image = renderer.Render(poses, SplitMix64(camera_seed + 7919 * i));
     frame.image_path = (std::filesystem::path(folder) / fmt::format("{}.png", frame.t_ns)).string();
-    if (!cv::imwrite(frame.image_path, image))
-      throw InputError(frame.image_path, 0, "", "cannot write rendered image");
+    WriteFileAtomically(frame.image_path, EncodePng(image));
     if (i % 50 == 0)
       ReportProgress("render",
                      fmt::format("{} frame {}/{}", scenario, i + 1, camera->frames.size()));

@@ -107,6 +107,7 @@ struct ReportTable {
 struct ReportSection {
   std::string title;
   std::string markdown;
+  bool before_tables = false;  // shown before the tables (a setup), else after them (findings)
 };
 
 struct Report {

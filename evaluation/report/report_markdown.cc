@@ -214,10 +214,16 @@ std::string RenderResultTables(const Report& report) {
 std::string RenderReportMarkdown(const Report& report) {
   std::string md = "# " + report.title + "\n\n";
   md += ProtocolLine(report);
+  const auto sections = [&](bool before_tables) {
+    for (const auto& section : report.sections)
+      if (section.before_tables == before_tables)
+        md +=
+            (section.title.empty() ? "" : "## " + section.title + "\n\n") + section.markdown + "\n";
+  };
+  sections(true);
   md += RenderResultTables(report);
   for (const auto& table : report.tables) md += RenderTable(table) + "\n";
-  for (const auto& section : report.sections)
-    md += (section.title.empty() ? "" : "## " + section.title + "\n\n") + section.markdown + "\n";
+  sections(false);
   md += fmt::format("mavloc {}; the command, seeds and settings are in report.json (provenance).\n",
                     report.provenance.version);
   return md;

@@ -437,7 +437,7 @@ const std::vector<std::string> kDynamicNames = {"x",  "y",    "z",     "vx", "vy
                                                 "vz", "roll", "pitch", "yaw"};
 
 // The dynamic unit (V-C): the fast-turn flight of `seed` rendered and detected, each variant's
-// peak errors after convergence; {"dynamic": table JSON, "rows", "csv", "images",
+// peak errors after convergence; {"dynamic": table JSON, "csv", "images",
 // "processing_delay_s"}.
 nlohmann::json DynamicUnit(const AprilTagSettings& settings, uint64_t seed) {
   ScenarioOptions dynamic_scenario;
@@ -468,7 +468,6 @@ nlohmann::json DynamicUnit(const AprilTagSettings& settings, uint64_t seed) {
                                  {"window_start_s", window_s},
                                  {"duration_s", settings.dynamic_s},
                                  {"estimators", nlohmann::json::object()}};
-  std::vector<std::vector<std::string>> dynamic_rows;
   std::string dynamic_csv =
       "estimator,t [s],ex [m],ey [m],ez [m],evx [m/s],evy [m/s],evz [m/s],"
       "eroll [rad],epitch [rad],eyaw [rad]\n";
@@ -501,22 +500,16 @@ nlohmann::json DynamicUnit(const AprilTagSettings& settings, uint64_t seed) {
                             {"rmse", nlohmann::json::object()},
                             {"final_position_error_m", errors.back().p.norm()},
                             {"runtime_s", e.runtime_s}};
-    std::vector<std::string> row = {variant.label};
     for (const auto& name : kDynamicNames) {
       const bool has = count[name] > 0;
-      const double p = has ? peak[name] : kNaN;
-      entry["peak_abs_error"][name] = JsonNumber(p);
+      entry["peak_abs_error"][name] = JsonNumber(has ? peak[name] : kNaN);
       entry["rmse"][name] = JsonNumber(has ? std::sqrt(sum2[name] / count[name]) : kNaN);
-      row.push_back(TagNumber(p, 4));
     }
-    row.push_back(TagNumber(errors.back().p.norm(), 3));
     if (!e.estimate.failures.empty()) entry["failures"] = e.estimate.failures;
     if (!e.estimate.rejections.empty()) entry["rejections"] = e.estimate.rejections;
     dynamic_json["estimators"][variant.label] = entry;
-    dynamic_rows.push_back(row);
   }
   nlohmann::json out = {{"dynamic", dynamic_json},
-                        {"rows", dynamic_rows},
                         {"csv", dynamic_csv},
                         {"processing_delay_s", dynamic.scenario_info.at("processing_delay_s")}};
   if (settings.from_images) out["images"] = ToExactJson(dynamic_image_stats);
@@ -526,8 +519,9 @@ nlohmann::json DynamicUnit(const AprilTagSettings& settings, uint64_t seed) {
 constexpr const char* kHoverUnit = "hover";
 constexpr const char* kDynamicUnit = "dynamic";
 
-nlohmann::json AprilTagUnitResult(const AprilTagSettings& settings, const std::string& unit,
+nlohmann::json AprilTagUnitResult(const ReproSettings& raw, const std::string& unit,
                                   uint64_t seed) {
+  const AprilTagSettings settings = ParseAprilTagSettings(raw);
   if (unit == kDynamicUnit) return DynamicUnit(settings, seed);
   if (unit == kHoverUnit)
     return HoverUnit(settings, settings.hover_images_seed.value_or(seed), seed);
@@ -558,254 +552,294 @@ HoverSamples HoverSamplesFromJson(const nlohmann::json& j) {
           NumbersFromJson(j.at("nees_a"))};
 }
 
-}  // namespace
-
-nlohmann::json RunAprilTagReproUnit(const std::map<std::string, std::string>& settings,
-                                    const std::string& unit, uint64_t seed) {
-  return AprilTagUnitResult(ParseAprilTagSettings(settings), unit, seed);
-}
-
-int RunAprilTagRepro(const ReproOptions& options) {
-  AprilTagSettings settings = ParseAprilTagSettings(options.settings);
-  const int runs = ReproRunCount(options, kAprilTagDefaultRuns);
-  const bool from_images = settings.from_images;
-  const double hover_s = settings.hover_s;
-  const auto total_start = Clock::now();
-  // The hover images' seed travels with the settings, so that every unit (here or in a worker)
-  // renders the same hover.
-  ReproOptions unit_options = options;
-  if (!settings.hover_images_seed) {
-    settings.hover_images_seed = options.seed;
-    unit_options.settings["hover_images_seed"] = std::to_string(options.seed);
-  }
-
-  // Units: (dynamic, first seed) and (hover, seed) for every seed; the dynamic flight (the
-  // longest unit) goes first.
-  ReproUnitGrid grid;
-  grid.runs = runs;
-  grid.unit_names = {kDynamicUnit, kHoverUnit};
-  grid.indices = {0};
-  for (int k = 0; k < runs; ++k) grid.indices.push_back(static_cast<size_t>(runs + k));
-  const std::vector<nlohmann::json> results =
-      RunReproUnits("apriltag", unit_options, grid, [&](const std::string& unit, uint64_t seed) {
-        return AprilTagUnitResult(settings, unit, seed);
-      });
-  const nlohmann::json& dynamic_result = results.front();
-  const ImageStats image_stats =
-      from_images ? FromExactJson<ImageStats>(results[1].at("images")) : ImageStats{};
-  const ImageStats dynamic_image_stats =
-      from_images ? FromExactJson<ImageStats>(dynamic_result.at("images")) : ImageStats{};
-  HoverResult hover, hover_confident;
-  std::vector<HoverSamples> hover_errors;
-  for (size_t i = 1; i < results.size(); ++i) {
-    AddHoverRun(results[i].at("p0_matched"), &hover);
-    AddHoverRun(results[i].at("p0_confident"), &hover_confident);
-    hover_errors.push_back(HoverSamplesFromJson(results[i].at("p0_matched").at("samples")));
-  }
-  const auto& initial_pos = hover.initial_pos;
-
-  // ---- NEES over the hover runs ----
-  size_t steps = hover_errors.front().t_s.size();
-  for (const auto& run : hover_errors) steps = std::min(steps, run.t_s.size());
-  const double band_lo = ChiSquareQuantile(3.0 * runs, -kZ975) / runs;
-  const double band_hi = ChiSquareQuantile(3.0 * runs, kZ975) / runs;
-  std::string nees_csv = "t [s],anees_position,anees_velocity,anees_attitude,band_low,band_high\n";
-  struct NeesStat {
+// The average NEES of the hover runs per block, step by step, against the 95 % band of N runs.
+struct AprilTagNees {
+  struct Block {
     double sum = 0.0;
     int inside = 0, count = 0;
-  } nees_p, nees_v, nees_a;
+    nlohmann::json Json() const {
+      return {{"dof", 3},
+              {"mean_anees", count ? sum / count : kNaN},
+              {"fraction_in_band", count ? static_cast<double>(inside) / count : kNaN}};
+    }
+  };
+  double band_lo = kNaN, band_hi = kNaN;
+  Block position, velocity, attitude;
+  std::string csv;
+};
+
+AprilTagNees HoverNees(const std::vector<HoverSamples>& runs, size_t steps) {
+  const auto n = static_cast<double>(runs.size());
+  AprilTagNees out;
+  out.band_lo = ChiSquareQuantile(3.0 * n, -kZ975) / n;
+  out.band_hi = ChiSquareQuantile(3.0 * n, kZ975) / n;
+  out.csv = "t [s],anees_position,anees_velocity,anees_attitude,band_low,band_high\n";
   for (size_t i = 0; i < steps; ++i) {
     double p = 0.0, v = 0.0, a = 0.0;
-    for (const auto& run : hover_errors) {
+    for (const auto& run : runs) {
       p += run.nees_p[i];
       v += run.nees_v[i];
       a += run.nees_a[i];
     }
-    p /= runs;
-    v /= runs;
-    a /= runs;
-    const double t = hover_errors.front().t_s[i];
-    nees_csv +=
-        fmt::format("{:.3f},{:.5g},{:.5g},{:.5g},{:.5g},{:.5g}\n", t, p, v, a, band_lo, band_hi);
+    p /= n;
+    v /= n;
+    a /= n;
+    const double t = runs.front().t_s[i];
+    out.csv += fmt::format("{:.3f},{:.5g},{:.5g},{:.5g},{:.5g},{:.5g}\n", t, p, v, a, out.band_lo,
+                           out.band_hi);
     if (t < kNeesStartS) continue;
-    for (auto [stat, value] :
-         {std::pair{&nees_p, p}, std::pair{&nees_v, v}, std::pair{&nees_a, a}}) {
-      stat->sum += value;
-      stat->count += 1;
-      stat->inside += (value >= band_lo && value <= band_hi) ? 1 : 0;
+    for (auto [block, value] :
+         {std::pair{&out.position, p}, std::pair{&out.velocity, v}, std::pair{&out.attitude, a}}) {
+      block->sum += value;
+      block->count += 1;
+      block->inside += (value >= out.band_lo && value <= out.band_hi) ? 1 : 0;
     }
   }
-  auto nees_json = [&](const NeesStat& s) {
-    return nlohmann::json{
-        {"dof", 3},
-        {"mean_anees", s.count ? s.sum / s.count : kNaN},
-        {"fraction_in_band", s.count ? static_cast<double>(s.inside) / s.count : kNaN}};
-  };
+  return out;
+}
 
-  // Hover envelope CSV (mean and max over runs).
-  std::string envelope_csv =
+// The hover envelope (mean and max over the runs), every fifth step.
+std::string HoverEnvelopeCsv(const std::vector<HoverSamples>& runs, size_t steps) {
+  std::string csv =
       "t [s],position_error_mean [m],position_error_max [m],velocity_error_mean [m/s],"
       "velocity_error_max [m/s],attitude_error_mean [rad],attitude_error_max [rad]\n";
   for (size_t i = 0; i < steps; i += 5) {
     RunningStat p, v, a;
-    for (const auto& run : hover_errors) {
+    for (const auto& run : runs) {
       p.Add(run.p[i]);
       v.Add(run.v[i]);
       a.Add(run.a[i]);
     }
-    envelope_csv +=
-        fmt::format("{:.3f},{:.5g},{:.5g},{:.5g},{:.5g},{:.5g},{:.5g}\n",
-                    hover_errors.front().t_s[i], p.Mean(), p.max, v.Mean(), v.max, a.Mean(), a.max);
+    csv += fmt::format("{:.3f},{:.5g},{:.5g},{:.5g},{:.5g},{:.5g},{:.5g}\n", runs.front().t_s[i],
+                       p.Mean(), p.max, v.Mean(), v.max, a.Mean(), a.max);
   }
+  return csv;
+}
 
-  // ---- dynamic (V-C) ----
-  nlohmann::json dynamic_json = dynamic_result.at("dynamic");
-  const double window_s = dynamic_json.at("window_start_s").get<double>();
-  const double first_tag_s = dynamic_json.at("first_tag_s").get<double>();
-  auto dynamic_rows = dynamic_result.at("rows").get<std::vector<std::vector<std::string>>>();
-  const std::string dynamic_csv = dynamic_result.at("csv").get<std::string>();
-  dynamic_rows.push_back({"paper (peaks)", TagNumber(kPaperPositionPeakM, 3),
-                          TagNumber(kPaperPositionPeakM, 3), TagNumber(kPaperPositionPeakM, 3),
-                          TagNumber(kPaperVelocityPeakMs, 3), TagNumber(kPaperVelocityPeakMs, 3),
-                          TagNumber(kPaperVelocityPeakMs, 3), TagNumber(kPaperRollPeakRad, 3),
-                          TagNumber(kPaperPitchPeakRad, 3), "-", "-"});
-  dynamic_json["paper"] = {{"position_peak_m", kPaperPositionPeakM},
-                           {"velocity_peak_m_s", kPaperVelocityPeakMs},
-                           {"roll_peak_rad", kPaperRollPeakRad},
-                           {"pitch_peak_rad", kPaperPitchPeakRad}};
+ReportTable AprilTagImagesTable(const ImageStats& hover, const ImageStats& dynamic) {
+  ReportTable table =
+      ReproTable("images", "images: the detector on the rendered frames",
+                 {"flight", "frames", "visible tags", "visible tags detected", "false detections",
+                  "corner error mean [px]", "corner error max [px]",
+                  "tag pose position error mean [m]", "tag pose angle error mean [rad]"});
+  for (const auto& [label, s] :
+       {std::pair<std::string, const ImageStats*>{"hover", &hover}, {"dynamic", &dynamic}})
+    table.rows.push_back({label, s->frames, s->visible, s->visible_detected, s->false_detections,
+                          s->corner_px.Mean(), s->corner_px.max, s->pose_position_m.Mean(),
+                          s->pose_angle_rad.Mean()});
+  return table;
+}
 
-  // ---- report ----
-  auto hover_result_json = [&](const HoverResult& r, double p0_scale) {
-    return nlohmann::json{
-        {"p0_scale", p0_scale},
-        {"position", {{"convergence_s", Summary(r.t_pos)}, {"final_m", Summary(r.final_pos)}}},
-        {"velocity", {{"convergence_s", Summary(r.t_vel)}, {"final_m_s", Summary(r.final_vel)}}},
-        {"attitude", {{"convergence_s", Summary(r.t_att)}, {"final_rad", Summary(r.final_att)}}}};
-  };
-  nlohmann::json hover_json = {
-      {"runs", runs},
-      {"duration_s", hover_s},
-      {"initial_position_error_m", Summary(initial_pos)},
-      {"thresholds",
-       {{"position_m", kConvergedPositionM},
-        {"velocity_m_s", kConvergedVelocityMs},
-        {"attitude_rad", kConvergedAttitudeRad}}},
-      {"paper", {{"convergence_s", kPaperHoverConvergenceS}, {"initial_position_error_m", 0.5}}},
-      {"p0_matched", hover_result_json(hover, 1.0)},
-      {"p0_confident", hover_result_json(hover_confident, 0.1)},
-  };
-  nlohmann::json nees = {{"runs", runs},
-                         {"from_s", kNeesStartS},
-                         {"band_95", {band_lo, band_hi}},
-                         {"position", nees_json(nees_p)},
-                         {"velocity", nees_json(nees_v)},
-                         {"attitude", nees_json(nees_a)}};
-  nlohmann::json images = {{"hover", ImageStatsJson(image_stats, from_images)},
-                           {"dynamic", ImageStatsJson(dynamic_image_stats, from_images)},
-                           {"detections", image_stats.detections + dynamic_image_stats.detections}};
-  const double total_s = Elapsed(total_start);
+// One hover table per error (position, velocity, attitude): convergence time and final error for
+// both P0 variants, and the paper's convergence time.
+ReportTable AprilTagHoverTable(const std::string& error, const std::string& unit, double threshold,
+                               const std::vector<std::pair<std::string, const HoverResult*>>& rows,
+                               std::vector<double> HoverResult::*t,
+                               std::vector<double> HoverResult::*final_error, int runs) {
+  ReportTable table = ReproTable(
+      "hover_" + error,
+      fmt::format("hover (V-B): {} error, converged below {} {}", error, threshold, unit),
+      {"P0", "converged after mean [s]", "converged after median [s]", "converged after max [s]",
+       "runs converged", "final mean [" + unit + "]", "final max [" + unit + "]"});
+  for (const auto& [label, r] : rows) {
+    const auto s = Summary(r->*t);
+    const auto f = Summary(r->*final_error);
+    table.rows.push_back({label, s["mean"], s["median"], s["max"],
+                          fmt::format("{}/{}", s["count"].get<int>(), runs), f["mean"], f["max"]});
+  }
+  table.rows.push_back({"paper",
+                        error == "attitude" ? nlohmann::json("more slowly")
+                                            : nlohmann::json(kPaperHoverConvergenceS),
+                        nullptr, nullptr, nullptr, nullptr, nullptr});
+  return table;
+}
 
-  ReportFiles files;
-  files.json = {
-      {"paper",
-       "de Almeida Barbosa, Dias, dos Santos: A Visual-Inertial Navigation System "
-       "Using AprilTag for Real-Time MAV Applications"},
-      {"seed", options.seed},
-      {"hover_images_seed", *settings.hover_images_seed},
-      {"jobs", options.jobs},
-      {"runtime_s", total_s},
-      {"tables",
-       {{"images", images}, {"hover", hover_json}, {"dynamic", dynamic_json}, {"nees", nees}}}};
-  auto summary_row = [&](const std::string& label, const std::vector<double>& t,
-                         const std::vector<double>& final_values, double threshold,
-                         const std::string& unit) {
-    const auto s = Summary(t);
-    const auto f = Summary(final_values);
-    return std::vector<std::string>{label,
-                                    fmt::format("{} {}", TagNumber(threshold, 3), unit),
-                                    TagNumber(s["mean"].get<double>(), 2),
-                                    TagNumber(s["median"].get<double>(), 2),
-                                    TagNumber(s["max"].get<double>(), 2),
-                                    fmt::format("{}/{}", s["count"].get<int>(), runs),
-                                    TagNumber(f["mean"].get<double>(), 4),
-                                    TagNumber(f["max"].get<double>(), 4)};
-  };
-  std::string md = "# AprilTag paper (de Almeida Barbosa et al.): reproduction\n\n";
-  md += fmt::format(
-      "Seed {}, {} hover runs, runtime {:.1f} s. Tag measurements: {}. Processing delay {} s "
-      "(compensated as in Fig. 3-4 unless stated).\n\n",
-      options.seed, runs, total_s,
-      from_images ? "rendered images -> libapriltag -> per-tag PnP" : "projected corners + noise",
+// Dynamic flight: peak |error| per quantity after convergence, and the paper's peaks.
+ReportTable AprilTagDynamicTable(const nlohmann::json& dynamic) {
+  ReportTable table = ReproTable(
+      "dynamic",
+      fmt::format("dynamic (V-C): peak |error| from {:.1f} s (first tag at {:.1f} s + {} s)",
+                  dynamic.at("window_start_s").get<double>(),
+                  dynamic.at("first_tag_s").get<double>(), kDynamicSettleS),
+      {"estimator", "x [m]", "y [m]", "z [m]", "vx [m/s]", "vy [m/s]", "vz [m/s]", "roll [rad]",
+       "pitch [rad]", "yaw [rad]", "final |p err| [m]"});
+  // The estimators in the order of their names, as details holds them.
+  for (const auto& [label, e] : dynamic.at("estimators").items()) {
+    std::vector<nlohmann::json> row = {label};
+    for (const auto& name : kDynamicNames) row.push_back(e.at("peak_abs_error").at(name));
+    row.push_back(e.at("final_position_error_m"));
+    table.rows.push_back(std::move(row));
+  }
+  table.rows.push_back({"paper (peaks)", kPaperPositionPeakM, kPaperPositionPeakM,
+                        kPaperPositionPeakM, kPaperVelocityPeakMs, kPaperVelocityPeakMs,
+                        kPaperVelocityPeakMs, kPaperRollPeakRad, kPaperPitchPeakRad, nullptr,
+                        nullptr});
+  return table;
+}
+
+ReportTable AprilTagNeesTable(const AprilTagNees& nees, int runs) {
+  ReportTable table = ReproTable("nees",
+                                 fmt::format("nees: hover runs, average NEES from {} s against the "
+                                             "95 % chi-square band [{:.3f}, {:.3f}] of {} runs",
+                                             kNeesStartS, nees.band_lo, nees.band_hi, runs),
+                                 {"block", "mean ANEES (dof 3)", "fraction of time in band"});
+  for (const auto& [label, block] :
+       {std::pair<std::string, const AprilTagNees::Block*>{"position", &nees.position},
+        {"velocity", &nees.velocity},
+        {"attitude", &nees.attitude}}) {
+    const nlohmann::json j = block->Json();
+    table.rows.push_back({label, j["mean_anees"], j["fraction_in_band"]});
+  }
+  return table;
+}
+
+nlohmann::json HoverResultJson(const HoverResult& r, double p0_scale) {
+  return {{"p0_scale", p0_scale},
+          {"position", {{"convergence_s", Summary(r.t_pos)}, {"final_m", Summary(r.final_pos)}}},
+          {"velocity", {{"convergence_s", Summary(r.t_vel)}, {"final_m_s", Summary(r.final_vel)}}},
+          {"attitude", {{"convergence_s", Summary(r.t_att)}, {"final_rad", Summary(r.final_att)}}}};
+}
+
+std::string AprilTagSetup(const AprilTagSettings& settings, const ReproRuns& runs,
+                          const nlohmann::json& dynamic_result, const HoverResult& hover,
+                          const ImageStats& hover_images, const ImageStats& dynamic_images) {
+  std::string md = fmt::format(
+      "Seeds {}, {} hover runs. Tag measurements: {}. Processing delay {} s (compensated as in "
+      "Fig. 3-4 unless stated).\n\n",
+      runs.Seeds(), runs.runs,
+      settings.from_images ? "rendered images -> libapriltag -> per-tag PnP"
+                           : "projected corners + noise",
       dynamic_result.at("processing_delay_s").get<std::string>());
-  if (from_images) {
-    md += "## images: the detector on the rendered frames\n\n";
-    std::vector<std::vector<std::string>> rows;
-    for (const auto& [label, s] : {std::pair<std::string, const ImageStats*>{"hover", &image_stats},
-                                   {"dynamic", &dynamic_image_stats}}) {
-      rows.push_back({label, std::to_string(s->frames),
-                      fmt::format("{}/{}", s->visible_detected, s->visible),
-                      std::to_string(s->false_detections), TagNumber(s->corner_px.Mean(), 3),
-                      TagNumber(s->corner_px.max, 3), TagNumber(100 * s->pose_position_m.Mean(), 2),
-                      TagNumber(s->pose_angle_rad.Mean() * 180 / M_PI, 2),
-                      TagNumber(s->frames ? 1e3 * s->render_s / s->frames : kNaN, 1),
-                      TagNumber(s->frames ? 1e3 * s->detect_s / s->frames : kNaN, 1)});
-    }
-    md += MarkdownTable({"flight", "frames", "visible tags detected", "false",
-                         "corner err mean [px]", "corner err max [px]", "tag pose err [cm]",
-                         "tag angle err [deg]", "render [ms/frame]", "detect [ms/frame]"},
-                        rows);
-    md += "\n";
-  }
+  const auto per_frame_ms = [](const ImageStats& s, double seconds) {
+    return TagNumber(s.frames ? 1e3 * seconds / s.frames : kNaN, 1);
+  };
+  if (settings.from_images)
+    md += fmt::format(
+        "Rendering and detection took {} and {} ms per frame on the hover, {} and {} ms on the "
+        "dynamic flight.\n\n",
+        per_frame_ms(hover_images, hover_images.render_s),
+        per_frame_ms(hover_images, hover_images.detect_s),
+        per_frame_ms(dynamic_images, dynamic_images.render_s),
+        per_frame_ms(dynamic_images, dynamic_images.detect_s));
   md += fmt::format(
-      "## hover (V-B): Monte-Carlo over the filter's initial state\n\nMean initial position error "
+      "**hover (V-B)**: Monte-Carlo over the filter's initial state. Mean initial position error "
       "{} m (paper: about 0.5 m). Convergence time: from then on the error stays below the "
       "threshold (position and velocity: norm of the error vector; attitude: largest of |roll|, "
       "|pitch|, |yaw| errors); final: mean over the last second. Paper: position and velocity "
       "converge in about 2 s, attitude more slowly. \"P0 matched\": the initial covariance is "
       "the spread the initial errors are drawn from; \"P0 x0.1\": standard deviations ten times "
       "too small, innovation gate off (the paper states neither P0 nor a gate).\n\n",
-      TagNumber(Summary(initial_pos)["mean"].get<double>(), 3));
-  md += MarkdownTable(
-      {"error", "threshold", "converged after [s] mean", "median", "max", "runs converged",
-       "final mean", "final max"},
-      {summary_row("position, P0 matched", hover.t_pos, hover.final_pos, kConvergedPositionM, "m"),
-       summary_row("velocity, P0 matched", hover.t_vel, hover.final_vel, kConvergedVelocityMs,
-                   "m/s"),
-       summary_row("attitude, P0 matched", hover.t_att, hover.final_att, kConvergedAttitudeRad,
-                   "rad"),
-       summary_row("position, P0 x0.1, no gate", hover_confident.t_pos, hover_confident.final_pos,
-                   kConvergedPositionM, "m"),
-       summary_row("velocity, P0 x0.1, no gate", hover_confident.t_vel, hover_confident.final_vel,
-                   kConvergedVelocityMs, "m/s"),
-       summary_row("attitude, P0 x0.1, no gate", hover_confident.t_att, hover_confident.final_att,
-                   kConvergedAttitudeRad, "rad")});
-  md += fmt::format(
-      "\n## dynamic (V-C): peak |error| from {:.1f} s (first tag at {:.1f} s + {} s)\n\nFilter "
-      "started at zero, truth at (0, 0, 0.08) m; SI units (m, m/s, rad). The last column is the "
-      "position error at the end of the flight (drift without tags).\n\n",
-      window_s, first_tag_s, kDynamicSettleS);
-  md += MarkdownTable(
-      {"estimator", "x", "y", "z", "vx", "vy", "vz", "roll", "pitch", "yaw", "final |p err| [m]"},
-      dynamic_rows);
-  md += fmt::format(
-      "\n## nees: hover runs, average NEES from {} s against the 95 % chi-square band\n\n"
-      "For N = {} runs and 3 degrees of freedom the average NEES lies in [{}, {}] with 95 % "
-      "probability when the filter is consistent.\n\n",
-      kNeesStartS, runs, TagNumber(band_lo, 3), TagNumber(band_hi, 3));
-  md += MarkdownTable({"block", "mean ANEES (dof 3)", "fraction of time in band"},
-                      {{"position", TagNumber(nees["position"]["mean_anees"].get<double>(), 2),
-                        TagNumber(nees["position"]["fraction_in_band"].get<double>(), 2)},
-                       {"velocity", TagNumber(nees["velocity"]["mean_anees"].get<double>(), 2),
-                        TagNumber(nees["velocity"]["fraction_in_band"].get<double>(), 2)},
-                       {"attitude", TagNumber(nees["attitude"]["mean_anees"].get<double>(), 2),
-                        TagNumber(nees["attitude"]["fraction_in_band"].get<double>(), 2)}});
-  files.markdown = md;
-  files.extra["hover_envelope.csv"] = envelope_csv;
-  files.extra["dynamic_errors.csv"] = dynamic_csv;
-  files.extra["nees.csv"] = nees_csv;
-  WriteReportFolder(options.report_dir, files);
-  std::printf("%s", md.c_str());
-  return 0;
+      TagNumber(Summary(hover.initial_pos)["mean"].get<double>(), 3));
+  md +=
+      "**dynamic (V-C)**: filter started at zero, truth at (0, 0, 0.08) m. The last column is the "
+      "position error at the end of the flight (drift without tags).\n\n"
+      "**nees**: for N runs and 3 degrees of freedom the average NEES lies in the 95 % band with "
+      "95 % probability when the filter is consistent.\n";
+  return md;
+}
+
+Report SummarizeAprilTag(const ReproRuns& runs) {
+  const AprilTagSettings settings = ParseAprilTagSettings(runs.settings);
+  const bool from_images = settings.from_images;
+  const nlohmann::json& dynamic_result = runs.results.at(0).at(0);
+  const std::vector<nlohmann::json>& hover_runs = runs.results.at(1);
+  const ImageStats image_stats =
+      from_images ? FromExactJson<ImageStats>(hover_runs.at(0).at("images")) : ImageStats{};
+  const ImageStats dynamic_image_stats =
+      from_images ? FromExactJson<ImageStats>(dynamic_result.at("images")) : ImageStats{};
+  HoverResult hover, hover_confident;
+  std::vector<HoverSamples> hover_errors;
+  for (const auto& run : hover_runs) {
+    AddHoverRun(run.at("p0_matched"), &hover);
+    AddHoverRun(run.at("p0_confident"), &hover_confident);
+    hover_errors.push_back(HoverSamplesFromJson(run.at("p0_matched").at("samples")));
+  }
+  size_t steps = hover_errors.front().t_s.size();
+  for (const auto& run : hover_errors) steps = std::min(steps, run.t_s.size());
+  const AprilTagNees nees = HoverNees(hover_errors, steps);
+
+  nlohmann::json dynamic_json = dynamic_result.at("dynamic");
+  dynamic_json["paper"] = {{"position_peak_m", kPaperPositionPeakM},
+                           {"velocity_peak_m_s", kPaperVelocityPeakMs},
+                           {"roll_peak_rad", kPaperRollPeakRad},
+                           {"pitch_peak_rad", kPaperPitchPeakRad}};
+
+  Report report;
+  report.title = "AprilTag paper (de Almeida Barbosa et al.): reproduction";
+  report.provenance.input = "tag-arena-hover, tag-arena-dynamic";
+  if (from_images) report.tables.push_back(AprilTagImagesTable(image_stats, dynamic_image_stats));
+  const std::vector<std::pair<std::string, const HoverResult*>> p0 = {
+      {"P0 matched", &hover}, {"P0 x0.1, no gate", &hover_confident}};
+  using Samples = std::vector<double> HoverResult::*;
+  for (const auto& [error, unit, threshold, t, final_error] :
+       {std::tuple<std::string, std::string, double, Samples, Samples>{
+            "position", "m", kConvergedPositionM, &HoverResult::t_pos, &HoverResult::final_pos},
+        {"velocity", "m/s", kConvergedVelocityMs, &HoverResult::t_vel, &HoverResult::final_vel},
+        {"attitude", "rad", kConvergedAttitudeRad, &HoverResult::t_att, &HoverResult::final_att}})
+    report.tables.push_back(
+        AprilTagHoverTable(error, unit, threshold, p0, t, final_error, runs.runs));
+  report.tables.push_back(AprilTagDynamicTable(dynamic_json));
+  report.tables.push_back(AprilTagNeesTable(nees, runs.runs));
+  report.sections.push_back({"Setup", AprilTagSetup(settings, runs, dynamic_result, hover,
+                                                    image_stats, dynamic_image_stats)});
+  report.sections.back().before_tables = true;
+  report.files["hover_envelope.csv"] = HoverEnvelopeCsv(hover_errors, steps);
+  report.files["dynamic_errors.csv"] = dynamic_result.at("csv").get<std::string>();
+  report.files["nees.csv"] = nees.csv;
+
+  const nlohmann::json hover_json = {
+      {"runs", runs.runs},
+      {"duration_s", settings.hover_s},
+      {"initial_position_error_m", Summary(hover.initial_pos)},
+      {"thresholds",
+       {{"position_m", kConvergedPositionM},
+        {"velocity_m_s", kConvergedVelocityMs},
+        {"attitude_rad", kConvergedAttitudeRad}}},
+      {"paper", {{"convergence_s", kPaperHoverConvergenceS}, {"initial_position_error_m", 0.5}}},
+      {"p0_matched", HoverResultJson(hover, 1.0)},
+      {"p0_confident", HoverResultJson(hover_confident, 0.1)}};
+  const nlohmann::json nees_json = {{"runs", runs.runs},
+                                    {"from_s", kNeesStartS},
+                                    {"band_95", {nees.band_lo, nees.band_hi}},
+                                    {"position", nees.position.Json()},
+                                    {"velocity", nees.velocity.Json()},
+                                    {"attitude", nees.attitude.Json()}};
+  const nlohmann::json images = {
+      {"hover", ImageStatsJson(image_stats, from_images)},
+      {"dynamic", ImageStatsJson(dynamic_image_stats, from_images)},
+      {"detections", image_stats.detections + dynamic_image_stats.detections}};
+  report.details = {{"hover_images_seed", *settings.hover_images_seed},
+                    {"tables",
+                     {{"images", images},
+                      {"hover", hover_json},
+                      {"dynamic", dynamic_json},
+                      {"nees", nees_json}}}};
+  return report;
+}
+
+// Units: (dynamic, first seed), then (hover, seed) for every seed; the dynamic flight (the
+// longest unit) goes first. The hover images' seed travels with the settings, so that every unit
+// (here or in a worker) renders the same hover.
+ReproPlan PlanAprilTag(const ReproSettings& settings, uint64_t first_seed) {
+  const AprilTagSettings parsed = ParseAprilTagSettings(settings);
+  ReproPlan plan{{{kDynamicUnit, 1}, {kHoverUnit}}, settings};
+  if (!parsed.hover_images_seed) plan.settings["hover_images_seed"] = std::to_string(first_seed);
+  return plan;
+}
+
+}  // namespace
+
+ReproDefinition AprilTagRepro() {
+  return {
+      .name = "apriltag",
+      .description = "AprilTag paper V: render -> detect -> EKF; hover Monte-Carlo, dynamic, NEES",
+      .paper =
+          "de Almeida Barbosa, Dias, dos Santos: A Visual-Inertial Navigation System "
+          "Using AprilTag for Real-Time MAV Applications",
+      .default_runs = kAprilTagDefaultRuns,
+      .plan = PlanAprilTag,
+      .unit = AprilTagUnitResult,
+      .summarize = SummarizeAprilTag};
 }
 
 }  // namespace mavloc

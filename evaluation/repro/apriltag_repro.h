@@ -21,26 +21,16 @@
 // hover_images_seed (the seed of the hover's image noise; default: the first seed).
 // Default runtime: about a minute on 2 cores (500 rendered and detected frames, 100 EKF runs).
 //
-// Runs on the sweep machinery (evaluation/sweep/): the units are (dynamic, first seed) — the flight
-// rendered, detected and filtered by every variant — and (hover, seed) for every seed — both P0
-// variants of one Monte-Carlo run, on the hover images (rendered once per process: the hover
-// flight does not change with the seed). Each returns JSON; the report is made from those results,
-// so `--jobs N` (default: the core count) gives the numbers of `--jobs 1` (only wall times differ).
+// The units are (dynamic, first seed) — the flight rendered, detected and filtered by every
+// variant — and (hover, seed) for every seed — both P0 variants of one Monte-Carlo run, on the
+// hover images (rendered once per process: the hover flight does not change with the seed). Each
+// returns JSON, so `--jobs N` gives the numbers of `--jobs 1` (only wall times differ).
 #pragma once
-
-#include <cstdint>
-#include <map>
-#include <nlohmann/json.hpp>
-#include <string>
 
 #include "evaluation/repro/repro.h"
 
 namespace mavloc {
 
-int RunAprilTagRepro(const ReproOptions& options);
-
-// One unit ("dynamic" or "hover") for the seed.
-nlohmann::json RunAprilTagReproUnit(const std::map<std::string, std::string>& settings,
-                                    const std::string& unit, uint64_t seed);
+ReproDefinition AprilTagRepro();
 
 }  // namespace mavloc

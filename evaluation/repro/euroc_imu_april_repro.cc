@@ -23,6 +23,7 @@
 #include "evaluation/reference.h"
 #include "evaluation/report/report_protocol.h"
 #include "evaluation/report_writer.h"
+#include "evaluation/repro/repro_units.h"
 #include "solver/estimator.h"
 
 namespace mavloc {
@@ -95,10 +96,7 @@ ExtrinsicError CompareExtrinsic(const EstimatedExtrinsic& est, const Pose& refer
   return e;
 }
 
-std::string Vec(const Eigen::Vector3d& v, double scale, int digits) {
-  return fmt::format("({}, {}, {})", FormatNumber(v[0] * scale, digits),
-                     FormatNumber(v[1] * scale, digits), FormatNumber(v[2] * scale, digits));
-}
+nlohmann::json Xyz(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
 
 double Param(const Estimate& e, const std::string& name, bool sigma = false) {
   const auto it = e.parameters.find(name);
@@ -146,9 +144,8 @@ InBoard CompareInBoard(const Estimate& estimate, const Estimate& reference) {
   return out;
 }
 
-}  // namespace
-
-int RunEurocImuAprilRepro(const ReproOptions& options) {
+// One run on one real log: the report, made in this process.
+Report EurocImuAprilReport(const ReproOptions& options) {
   for (const auto& [key, value] : options.settings) {
     if (key != "data" && key != "official" && key != "initial" && key != "duration_s" &&
         key != "estimators" && key.rfind("smoother.", 0) != 0)
@@ -236,97 +233,85 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
     if (!run.ran) run.why = "no solution";
   }
 
-  ReportFiles files;
-  nlohmann::json& tables = files.json["tables"];
-  files.json["paper"] = "EuRoC imu_april, real aprilgrid corners + IMU, no ground truth";
-  files.json["settings"] = {{"data", data},
-                            {"official", official_root},
-                            {"initial", initial},
-                            {"duration_s", duration_s}};
-  std::ostringstream md;
-  md << "# EuRoC imu_april: the smoother and the papers' estimators on a real calibration log\n\n"
-     << fmt::format(
-            "Log: `{}` ({} IMU samples, {} cam0 frames with {} tag observations, {} cam1 frames "
-            "with {} tag observations, {:.1f} s). There is no ground truth: what is known is "
-            "EuRoC's official camera-IMU calibration (`{}`, computed by Kalibr from these "
-            "sequences), the stereo calibration T_cam0_cam1 of `config.yaml`, and that the board "
-            "is static. The smoother starts from the {} T_B_C.\n\n",
-            data, official.imu.samples.size(), official.cameras[0].frames.size(),
-            official.tags.size(), official.cameras[1].frames.size(), official.tags1.size(),
-            NsToSeconds(official.imu.samples.back().t_ns - official.imu.samples.front().t_ns),
-            official_root,
-            initial == "coarse" ? "coarse (official rotation rounded to the axes, zero translation)"
-                                : "official");
-  for (const auto& note : imported.notes) md << "- " << note << "\n";
-  md << "\n";
+  Report report;
+  report.title =
+      "EuRoC imu_april: the smoother and the papers' estimators on a real calibration log";
+  report.provenance.input = data;
+  report.protocol = ReportProtocolOf(SameImagesProtocol(), false);
+  report.protocol->reference = "estimate";
+  nlohmann::json& tables = report.details["tables"];
+  std::string setup = fmt::format(
+      "Log: `{}` ({} IMU samples, {} cam0 frames with {} tag observations, {} cam1 frames with {} "
+      "tag observations, {:.1f} s). There is no ground truth: what is known is EuRoC's official "
+      "camera-IMU calibration (`{}`, computed by Kalibr from these sequences), the stereo "
+      "calibration T_cam0_cam1 of `config.yaml`, and that the board is static. The smoother starts "
+      "from the {} T_B_C.\n\n",
+      data, official.imu.samples.size(), official.cameras[0].frames.size(), official.tags.size(),
+      official.cameras[1].frames.size(), official.tags1.size(),
+      NsToSeconds(official.imu.samples.back().t_ns - official.imu.samples.front().t_ns),
+      official_root,
+      initial == "coarse" ? "coarse (official rotation rounded to the axes, zero translation)"
+                          : "official");
+  for (const auto& note : imported.notes) setup += "- " + note + "\n";
+  report.sections.push_back({"Setup", setup});
+  report.sections.back().before_tables = true;
 
-  // 3. Extrinsics against the official calibration.
+  // 3. Extrinsics against the official calibration (the target: 1 cm and 0.5 deg).
   {
-    std::vector<std::vector<std::string>> rows;
-    nlohmann::json table = nlohmann::json::array();
+    ReportTable table =
+        ReproTable("extrinsics_vs_official", "T_B_C against EuRoC's official calibration",
+                   {"run", "camera", "dp x [m]", "dp y [m]", "dp z [m]", "|dp| [m]",
+                    "dtheta x [rad]", "dtheta y [rad]", "dtheta z [rad]", "|dtheta| [rad]", "d^2 p",
+                    "d^2 theta", "within 1 cm, 0.5 deg"});
+    nlohmann::json rows = nlohmann::json::array();
     for (const auto& run : runs) {
-      if (!run.ran) {
-        rows.push_back({run.label, "-", "no solution: " + run.why});
-        continue;
-      }
+      if (!run.ran) table.rows.push_back({run.label, "no solution: " + run.why});
       for (const auto& [camera, extrinsic] : run.estimate.extrinsics) {
         const Pose& reference = camera == "cam1" ? T_B_C1_official : T_B_C0_official;
         const ExtrinsicError e = CompareExtrinsic(extrinsic, reference);
-        const double dp_mm = e.dp.norm() * 1e3;
-        const double dtheta_deg = e.dtheta.norm() / kDeg;
-        rows.push_back({run.label, camera, Vec(extrinsic.T_B_C.p, 1e3, 1), Vec(e.dp, 1e3, 2),
-                        FormatNumber(dp_mm, 2), e.sigma_p ? Vec(*e.sigma_p * 3.0, 1e3, 2) : "-",
-                        Vec(e.dtheta, 1.0 / kDeg, 3), FormatNumber(dtheta_deg, 3),
-                        e.sigma_theta ? Vec(*e.sigma_theta * 3.0, 1.0 / kDeg, 3) : "-",
-                        FormatNumber(e.mahalanobis_p, 1), FormatNumber(e.mahalanobis_theta, 1),
-                        (dp_mm < 10.0 && dtheta_deg < 0.5) ? "yes" : "no"});
-        table.push_back(
-            {{"run", run.label},
-             {"camera", camera},
-             {"translation_error_mm", dp_mm},
-             {"translation_error_xyz_mm", {e.dp[0] * 1e3, e.dp[1] * 1e3, e.dp[2] * 1e3}},
-             {"rotation_error_deg", dtheta_deg},
-             {"three_sigma_p_mm", e.sigma_p
-                                      ? nlohmann::json{3e3 * (*e.sigma_p)[0], 3e3 * (*e.sigma_p)[1],
-                                                       3e3 * (*e.sigma_p)[2]}
-                                      : nlohmann::json()},
-             {"three_sigma_rotation_deg",
-              e.sigma_theta
-                  ? nlohmann::json{3 * (*e.sigma_theta)[0] / kDeg, 3 * (*e.sigma_theta)[1] / kDeg,
-                                   3 * (*e.sigma_theta)[2] / kDeg}
-                  : nlohmann::json()},
-             {"mahalanobis_p", e.mahalanobis_p},
-             {"mahalanobis_rotation", e.mahalanobis_theta},
-             {"within_1cm_0.5deg", dp_mm < 10.0 && dtheta_deg < 0.5},
-             {"paper", {{"translation_mm", 10.0}, {"rotation_deg", 0.5}}}});
+        const bool within = e.dp.norm() < 0.01 && e.dtheta.norm() < 0.5 * kDeg;
+        table.rows.push_back({run.label, camera, e.dp[0], e.dp[1], e.dp[2], e.dp.norm(),
+                              e.dtheta[0], e.dtheta[1], e.dtheta[2], e.dtheta.norm(),
+                              e.mahalanobis_p, e.mahalanobis_theta, within ? "yes" : "no"});
+        rows.push_back({{"run", run.label},
+                        {"camera", camera},
+                        {"p_B_C_m", Xyz(extrinsic.T_B_C.p)},
+                        {"translation_error_m", e.dp.norm()},
+                        {"translation_error_xyz_m", Xyz(e.dp)},
+                        {"rotation_error_rad", e.dtheta.norm()},
+                        {"rotation_error_xyz_rad", Xyz(e.dtheta)},
+                        {"three_sigma_p_m", e.sigma_p ? Xyz(3.0 * *e.sigma_p) : nlohmann::json()},
+                        {"three_sigma_rotation_rad",
+                         e.sigma_theta ? Xyz(3.0 * *e.sigma_theta) : nlohmann::json()},
+                        {"mahalanobis_p", e.mahalanobis_p},
+                        {"mahalanobis_rotation", e.mahalanobis_theta},
+                        {"within_1cm_0.5deg", within},
+                        {"paper", {{"translation_m", 0.01}, {"rotation_rad", 0.5 * kDeg}}}});
       }
     }
-    tables["extrinsics_vs_official"] = table;
-    md << "## T_B_C against EuRoC's official calibration\n\n"
-       << "Error = official - estimate (translation; rotation as Log(R_est^T R_official)); the "
-          "target is 1 cm and 0.5 deg. 3 sigma from the smoother's marginal covariance; "
-          "Mahalanobis d^2 of the error (3 dof; 14.2 = 3 sigma) treats the official value as "
-          "exact, which it is not (it is Kalibr's estimate from the same data).\n\n"
-       << MarkdownTable({"run", "camera", "p_B_C [mm]", "dp [mm]", "|dp| [mm]", "3 sigma p [mm]",
-                         "dtheta [deg]", "|dtheta| [deg]", "3 sigma theta [deg]", "d^2 p",
-                         "d^2 theta", "within 1 cm, 0.5 deg"},
-                        rows)
-       << "\n";
+    table.rows.push_back(
+        {"target", "", nullptr, nullptr, nullptr, 0.01, nullptr, nullptr, nullptr, 0.5 * kDeg});
+    tables["extrinsics_vs_official"] = rows;
+    report.tables.push_back(std::move(table));
+    report.sections.push_back(
+        {"T_B_C against EuRoC's official calibration",
+         "Error = official - estimate (translation; rotation as Log(R_est^T R_official)); the "
+         "target is 1 cm and 0.5 deg. Mahalanobis d^2 of the error (3 dof; 14.2 = 3 sigma) from "
+         "the smoother's marginal covariance (its 3 sigma in details) treats the official value "
+         "as exact, which it is not (it is Kalibr's estimate from the same data).\n"});
   }
 
   // 4. Stereo: the relative pose of the two estimates against T_cam0_cam1 of config.yaml.
   {
-    std::vector<std::vector<std::string>> rows;
-    nlohmann::json table = nlohmann::json::array();
+    ReportTable table = ReproTable(
+        "stereo_vs_config", "The two cameras' relative pose against T_cam0_cam1 of config.yaml",
+        {"from", "p_C0_C1 x [m]", "p_C0_C1 y [m]", "p_C0_C1 z [m]", "|dp| [m]", "dtheta [rad]"});
     auto add = [&](const std::string& label, const Pose& T_B_C0, const Pose& T_B_C1) {
       if (!T_C0_C1_config) return;
       const Pose T_C0_C1 = T_B_C0.Inverse() * T_B_C1;
-      const double dp_mm = (T_C0_C1.p - T_C0_C1_config->p).norm() * 1e3;
-      const double dtheta_deg = RotationAngleBetween(T_C0_C1.q, T_C0_C1_config->q) / kDeg;
-      rows.push_back(
-          {label, Vec(T_C0_C1.p, 1e3, 2), FormatNumber(dp_mm, 2), FormatNumber(dtheta_deg, 3)});
-      table.push_back(
-          {{"from", label}, {"translation_diff_mm", dp_mm}, {"rotation_diff_deg", dtheta_deg}});
+      const double dp = (T_C0_C1.p - T_C0_C1_config->p).norm();
+      const double dtheta = RotationAngleBetween(T_C0_C1.q, T_C0_C1_config->q);
+      table.rows.push_back({label, T_C0_C1.p[0], T_C0_C1.p[1], T_C0_C1.p[2], dp, dtheta});
     };
     add("EuRoC official T_BS (cam0, cam1)", T_B_C0_official, T_B_C1_official);
     const SmootherRun& both = runs[2];
@@ -338,46 +323,31 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
         runs[1].estimate.extrinsics.count("cam1"))
       add("smoother cam0 run, cam1 run", runs[0].estimate.extrinsics.at("cam0").T_B_C,
           runs[1].estimate.extrinsics.at("cam1").T_B_C);
-    tables["stereo_vs_config"] = table;
-    md << "## The two cameras' relative pose against T_cam0_cam1 of config.yaml\n\n"
-       << (T_C0_C1_config
-               ? MarkdownTable({"from", "p_C0_C1 [mm]", "|dp| [mm]", "dtheta [deg]"}, rows)
-               : std::string("config.yaml has no T_cam0_cam1.\n"))
-       << "\n";
+    if (T_C0_C1_config)
+      report.tables.push_back(std::move(table));
+    else
+      report.warnings.push_back("config.yaml has no T_cam0_cam1: no stereo comparison");
   }
 
   // 5. Time offset, reprojection, robust loss, board tilt, run time.
   {
-    std::vector<std::vector<std::string>> rows;
-    nlohmann::json table = nlohmann::json::object();
+    ReportTable table = ReproTable(
+        "smoother_solutions", "Time offset, reprojection and gravity of the smoother's solutions",
+        {"run", "t_d [s]", "sigma t_d [s]", "reprojection rms [px]", "down-weighted corners",
+         "board roll [rad]", "board pitch [rad]", "runtime [s]"});
     for (const auto& run : runs) {
       if (!run.ran) continue;
       const Estimate& e = run.estimate;
-      rows.push_back({run.label, FormatNumber(Param(e, "time_offset") * 1e3, 3),
-                      FormatNumber(Param(e, "time_offset", true) * 1e3, 3),
-                      FormatNumber(Param(e, "reprojection_rms"), 3),
-                      FormatNumber(Param(e, "downweighted_corners"), 0),
-                      FormatNumber(Param(e, "board_roll") / kDeg, 3),
-                      FormatNumber(Param(e, "board_pitch") / kDeg, 3),
-                      FormatNumber(run.runtime_s, 1)});
-      table[run.label] = {{"time_offset_ms", Param(e, "time_offset") * 1e3},
-                          {"time_offset_sigma_ms", Param(e, "time_offset", true) * 1e3},
-                          {"reprojection_rms_px", Param(e, "reprojection_rms")},
-                          {"downweighted_corners", Param(e, "downweighted_corners")},
-                          {"board_roll_deg", Param(e, "board_roll") / kDeg},
-                          {"board_pitch_deg", Param(e, "board_pitch") / kDeg},
-                          {"runtime_s", run.runtime_s}};
+      table.rows.push_back({run.label, Param(e, "time_offset"), Param(e, "time_offset", true),
+                            Param(e, "reprojection_rms"), Param(e, "downweighted_corners"),
+                            Param(e, "board_roll"), Param(e, "board_pitch"), run.runtime_s});
     }
-    tables["smoother_solutions"] = table;
-    md << "## Time offset, reprojection and gravity of the smoother's solutions\n\n"
-       << "t_d: exposure = image stamp + t_d (EuRoC's VI-sensor is hardware-synchronised, so 0 "
-          "is expected). Reprojection RMS over every corner of the solution; corners the robust "
-          "loss down-weights (whitened error beyond its scale).\n\n"
-       << MarkdownTable(
-              {"run", "t_d [ms]", "sigma t_d [ms]", "reprojection rms [px]",
-               "down-weighted corners", "board roll [deg]", "board pitch [deg]", "runtime [s]"},
-              rows)
-       << "\n";
+    report.tables.push_back(std::move(table));
+    report.sections.push_back(
+        {"Time offset, reprojection and gravity of the smoother's solutions",
+         "t_d: exposure = image stamp + t_d (EuRoC's VI-sensor is hardware-synchronised, so 0 is "
+         "expected). Reprojection RMS over every corner of the solution; corners the robust loss "
+         "down-weights (whitened error beyond its scale).\n"});
   }
 
   // 6. cam0-only against cam1-only trajectories.
@@ -385,19 +355,19 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
     const auto ate =
         EvaluateTrajectory(runs[0].estimate.poses, runs[1].estimate.poses, SameImagesProtocol());
     if (ate) {
-      const size_t pairs = ate->pair_count;
       tables["cam0_vs_cam1_trajectories"] = {
-          {"pairs", pairs},
+          {"pairs", ate->pair_count},
           {"position_rms_m", ate->ape_translation_m.rmse},
           {"position_max_m", ate->ape_translation_m.max},
           {"rotation_rms_rad", ate->ape_rotation_deg.rmse * kDeg}};
-      md << fmt::format(
-          "## cam0-only against cam1-only\n\nThe body trajectories of the two independent "
-          "solutions (each in the W of its own gravity estimate) over {} common keyframes: "
-          "position RMS {} mm (max {} mm), rotation RMS {} deg.\n\n",
-          pairs, FormatNumber(ate->ape_translation_m.rmse * 1e3, 2),
-          FormatNumber(ate->ape_translation_m.max * 1e3, 2),
-          FormatNumber(ate->ape_rotation_deg.rmse, 3));
+      report.sections.push_back(
+          {"cam0-only against cam1-only",
+           fmt::format("The body trajectories of the two independent solutions (each in the W of "
+                       "its own gravity estimate) over {} common keyframes: position RMS {} mm "
+                       "(max {} mm), rotation RMS {} deg.\n",
+                       ate->pair_count, FormatNumber(ate->ape_translation_m.rmse * 1e3, 2),
+                       FormatNumber(ate->ape_translation_m.max * 1e3, 2),
+                       FormatNumber(ate->ape_rotation_deg.rmse, 3))});
     }
   }
 
@@ -414,70 +384,74 @@ int RunEurocImuAprilRepro(const ReproOptions& options) {
       }
       results.push_back({name, std::move(e.estimate)});
     }
-    nlohmann::json table = nlohmann::json::object();
-    std::vector<std::vector<std::string>> rows;
+    ReportTable table =
+        ReproTable("papers_vs_smoother", "The papers' estimators against the smoother",
+                   {"reference", "estimator", "W: position RMS [m]", "W: rotation RMS [rad]",
+                    "M: position RMS [m]", "M: rotation RMS [rad]", "gravity angle [rad]",
+                    "reprojection rms [px]", "corners off image", "no solution"});
+    nlohmann::json comparisons = nlohmann::json::object();
     std::string events;  // filter resets and other events, once per estimator
     for (const auto& [name, estimate] : results)
       for (const auto& event : estimate.events) events += "- " + name + ": " + event + "\n";
     for (int r : {0, 2}) {
       if (!runs[r].ran) continue;
-      const ComparisonReference reference =
-          ReferenceFromEstimate("smoother " + runs[r].label, runs[r].estimate);
+      const std::string reference_name = "smoother " + runs[r].label;
+      const ComparisonReference reference = ReferenceFromEstimate(reference_name, runs[r].estimate);
       EvaluationOptions evaluation_options;
       evaluation_options.reference = &reference;
       for (const auto& [name, estimate] : results) {
         if (estimate.poses.empty() && estimate.quantities.empty()) {
-          rows.push_back({"smoother " + runs[r].label, name, "-", "-", "-", "-", "-", "-", "-"});
+          table.rows.push_back({reference_name, name});
           continue;
         }
         const auto e =
             EvaluateEstimate(split_variant(name).first, estimate, official, evaluation_options);
-        std::string reprojection = "-";
-        if (!e.reprojection.empty()) {
-          reprojection = FormatNumber(e.reprojection[0].rms_px, 2);
-          if (e.reprojection[0].off_image > 0)
-            reprojection += fmt::format(" ({} corners off image)", e.reprojection[0].off_image);
-        }
         // The same in the board frame M (T_M_B = T_W_M^-1 T_W_B of each): the pose estimation
         // without the gravity estimate, and the angle between the two gravity directions.
         const InBoard board = CompareInBoard(estimate, runs[r].estimate);
-        rows.push_back({"smoother " + runs[r].label, name,
-                        e.ate ? FormatNumber(e.ate->translation_m.rmse * 1e3, 1) : "-",
-                        e.ate ? FormatNumber(e.ate->rotation_rad.rmse / kDeg, 3) : "-",
-                        FormatNumber(board.position_rms_m * 1e3, 1),
-                        FormatNumber(board.rotation_rms_rad / kDeg, 3),
-                        FormatNumber(board.gravity_angle_rad / kDeg, 3), reprojection,
-                        std::to_string(estimate.FailureCount())});
+        const auto ate = [&](auto f) {
+          return e.ate ? nlohmann::json(f(*e.ate)) : nlohmann::json();
+        };
+        table.rows.push_back(
+            {reference_name, name, ate([](const AteResult& a) { return a.translation_m.rmse; }),
+             ate([](const AteResult& a) { return a.rotation_rad.rmse; }), board.position_rms_m,
+             board.rotation_rms_rad, board.gravity_angle_rad,
+             e.reprojection.empty() ? nlohmann::json() : nlohmann::json(e.reprojection[0].rms_px),
+             e.reprojection.empty() ? nlohmann::json()
+                                    : nlohmann::json(e.reprojection[0].off_image),
+             estimate.FailureCount()});
         nlohmann::json entry = EvaluationToJson(e);
-        entry["in_board_frame"] = {{"position_rms_mm", board.position_rms_m * 1e3},
-                                   {"rotation_rms_deg", board.rotation_rms_rad / kDeg},
-                                   {"gravity_angle_deg", board.gravity_angle_rad / kDeg}};
-        table["smoother " + runs[r].label][name] = entry;
+        entry["in_board_frame"] = {{"position_rms_m", board.position_rms_m},
+                                   {"rotation_rms_rad", board.rotation_rms_rad},
+                                   {"gravity_angle_rad", board.gravity_angle_rad}};
+        comparisons[reference_name][name] = entry;
       }
     }
-    tables["papers_vs_smoother"] = table;
-    md << "## The papers' estimators against the smoother\n\n"
-       << "The reference is the smoother's solution: an estimate, not a truth. The papers' "
-          "estimators use cam0 with EuRoC's official T_B_C and initialise the board's gravity "
-          "direction from the first frames. Differences: ATE RMS (no alignment) and rotation RMS "
-          "in W (each estimator's own gravity-aligned frame, core/board_frame.h), the same in the "
-          "board frame M (pose estimation alone), the angle between the two gravity estimates; "
-          "reprojection RMS of cam0's corners through each estimator's own poses and board "
-          "tilt.\n\n"
-       << MarkdownTable({"reference", "estimator", "W: position RMS [mm]", "W: rotation RMS [deg]",
-                         "M: position RMS [mm]", "M: rotation RMS [deg]", "gravity angle [deg]",
-                         "reprojection rms [px]", "no solution"},
-                        rows)
-       << "\n"
-       << (events.empty() ? std::string() : std::string("Events:\n\n").append(events).append("\n"));
+    tables["papers_vs_smoother"] = comparisons;
+    report.tables.push_back(std::move(table));
+    report.sections.push_back(
+        {"The papers' estimators against the smoother",
+         "The reference is the smoother's solution: an estimate, not a truth. The papers' "
+         "estimators use cam0 with EuRoC's official T_B_C and initialise the board's gravity "
+         "direction from the first frames. Differences: ATE RMS (no alignment) and rotation RMS in "
+         "W (each estimator's own gravity-aligned frame, core/board_frame.h), the same in the "
+         "board frame M (pose estimation alone), the angle between the two gravity estimates; "
+         "reprojection RMS of cam0's corners through each estimator's own poses and board tilt.\n" +
+             (events.empty() ? std::string() : "\nEvents:\n\n" + events)});
   }
+  return report;
+}
 
-  files.markdown = md.str();
-  files.protocol = ReportProtocolOf(SameImagesProtocol(), false);
-  files.protocol->reference = "estimate";
-  WriteReportFolder(options.report_dir, files);
-  std::printf("%s", files.markdown.c_str());
-  return 0;
+}  // namespace
+
+ReproDefinition EurocImuAprilRepro() {
+  return {.name = "euroc-imu-april",
+          .description =
+              "smoother calibration (T_B_C, t_d, gravity) and the papers' tag "
+              "estimators on EuRoC's real imu_april log, against EuRoC's official "
+              "calibration",
+          .paper = "EuRoC imu_april, real aprilgrid corners + IMU, no ground truth",
+          .single = EurocImuAprilReport};
 }
 
 }  // namespace mavloc

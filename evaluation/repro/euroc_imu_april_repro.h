@@ -22,6 +22,9 @@
 
 namespace mavloc {
 
-int RunEurocImuAprilRepro(const ReproOptions& options);
+// One run on one real log (seeds and --runs do not apply): it runs in one process, its
+// intermediate results being whole estimates (poses, covariances, extrinsics) that several
+// comparisons share.
+ReproDefinition EurocImuAprilRepro();
 
 }  // namespace mavloc

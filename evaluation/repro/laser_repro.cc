@@ -20,7 +20,6 @@
 #include "evaluation/exact_json.h"
 #include "evaluation/json_number.h"
 #include "evaluation/quantity_errors.h"
-#include "evaluation/report_writer.h"
 #include "evaluation/repro/repro_units.h"
 #include "solver/estimator.h"
 
@@ -123,9 +122,8 @@ RunResult EvaluateRun(const Dataset& dataset, const EstimatorOptions& estimator_
 }
 
 bool IsAngle(const std::string& q) { return q == "alpha" || q == "roll" || q == "pitch"; }
-double Scale(const std::string& q) { return IsAngle(q) ? 1.0 / kDeg : 1.0; }
 std::string LaserUnit(const std::string& q) {
-  if (IsAngle(q)) return "deg";
+  if (IsAngle(q)) return "rad";
   return q == "d" ? "m" : "m/s";
 }
 
@@ -144,6 +142,7 @@ std::string PaperClaim(const std::string& table, const std::string& quantity) {
 
 struct TableResult {
   std::string name;
+  std::string group, key;  // in details: tables.<group>.<key>
   std::vector<RunResult> runs;
 };
 
@@ -156,6 +155,7 @@ int AlphaBelow1Deg(const TableResult& table) {
   return count;
 }
 
+// A table's statistics in SI units, as details holds them and the report's tables show them.
 nlohmann::json TableJson(const TableResult& table) {
   nlohmann::json j;
   int converged = 0;
@@ -164,30 +164,26 @@ nlohmann::json TableJson(const TableResult& table) {
   j["runs_converged"] = converged;
   j["runs_alpha_final_below_1deg"] = AlphaBelow1Deg(table);
   for (const auto& q : kQuantities) {
-    std::vector<double> tc, mae, fin, fin_abs;
+    std::vector<double> tc, mae, fin, fin_abs, late;
     for (const auto& run : table.runs) {
       if (!run.quantities.count(q)) continue;
       const auto& r = run.quantities.at(q);
       tc.push_back(r.convergence_s);
-      mae.push_back(r.mae_after * Scale(q));
-      fin.push_back(r.final_error * Scale(q));
-      fin_abs.push_back(std::abs(r.final_error) * Scale(q));
+      mae.push_back(r.mae_after);
+      fin.push_back(r.final_error);
+      fin_abs.push_back(std::abs(r.final_error));
+      late.push_back(r.mae_late);
     }
-    nlohmann::json qj;
-    qj["unit"] = LaserUnit(q);
-    qj["mean_abs_error_after_convergence"] = MeanOfFinite(mae);
-    qj["mean_abs_final_error"] = MeanOfFinite(fin_abs);
-    qj["max_abs_final_error"] = Max(fin_abs);
-    qj["mean_convergence_time_s"] = MeanOfFinite(tc);
-    qj["max_convergence_time_s"] = Max(tc);
-    qj["per_run_final_error"] = fin;
-    qj["per_run_convergence_time_s"] = tc;
-    std::vector<double> late;
-    for (const auto& run : table.runs)
-      if (run.quantities.count(q)) late.push_back(run.quantities.at(q).mae_late * Scale(q));
-    qj["per_run_mae_last_quarter"] = late;
-    qj["paper"] = PaperClaim(table.name, q);
-    j["quantities"][q] = qj;
+    j["quantities"][q] = {{"unit", LaserUnit(q)},
+                          {"mean_abs_error_after_convergence", MeanOfFinite(mae)},
+                          {"mean_abs_final_error", MeanOfFinite(fin_abs)},
+                          {"max_abs_final_error", Max(fin_abs)},
+                          {"mean_convergence_time_s", MeanOfFinite(tc)},
+                          {"max_convergence_time_s", Max(tc)},
+                          {"per_run_final_error", fin},
+                          {"per_run_convergence_time_s", tc},
+                          {"per_run_mae_last_quarter", late},
+                          {"paper", PaperClaim(table.name, q)}};
   }
   nlohmann::json seeds = nlohmann::json::array();
   for (const auto& run : table.runs) seeds.push_back(run.seed);
@@ -195,53 +191,65 @@ nlohmann::json TableJson(const TableResult& table) {
   return j;
 }
 
-std::string SummaryMarkdown(const TableResult& table) {
-  int converged = 0;
-  for (const auto& run : table.runs) converged += run.converged ? 1 : 0;
-  std::string md =
-      fmt::format("### {} ({} runs, {} converged; |final alpha error| < 1 deg in {})\n\n",
-                  table.name, table.runs.size(), converged, AlphaBelow1Deg(table));
-  std::vector<std::vector<std::string>> rows;
-  for (const auto& q : kQuantities) {
-    std::vector<double> tc, mae, fin_abs;
-    for (const auto& run : table.runs) {
-      if (!run.quantities.count(q)) continue;
-      const auto& r = run.quantities.at(q);
-      tc.push_back(r.convergence_s);
-      mae.push_back(r.mae_after * Scale(q));
-      fin_abs.push_back(std::abs(r.final_error) * Scale(q));
+// Per table (its TableJson): mean |error| after convergence and |final error| (mean, max) of
+// every quantity, and the paper's claim in a row of its own.
+ReportTable LaserErrorTable(const std::vector<std::pair<std::string, nlohmann::json>>& tables) {
+  ReportTable out = ReproTable(
+      "errors", "Errors after convergence and at the end of the run, beside the paper's claims",
+      {"table", "statistic"});
+  for (const auto& q : kQuantities) out.columns.push_back({q, LaserUnit(q)});
+  for (const auto& [name, json] : tables) {
+    for (const auto& [statistic, key] :
+         {std::pair{"MAE after convergence", "mean_abs_error_after_convergence"},
+          {"mean |final error|", "mean_abs_final_error"},
+          {"max |final error|", "max_abs_final_error"},
+          {"paper", "paper"}}) {
+      std::vector<nlohmann::json> row = {name, statistic};
+      for (const auto& q : kQuantities) row.push_back(json["quantities"][q][key]);
+      out.rows.push_back(std::move(row));
     }
-    rows.push_back({q, LaserUnit(q), FormatNumber(MeanOfFinite(mae), 4),
-                    FormatNumber(MeanOfFinite(fin_abs), 4), FormatNumber(Max(fin_abs), 4),
-                    FormatNumber(MeanOfFinite(tc), 2), FormatNumber(Max(tc), 2),
-                    PaperClaim(table.name, q)});
   }
-  md += MarkdownTable({"quantity", "unit", "MAE after convergence", "mean |final error|",
-                       "max |final error|", "mean t_c [s]", "max t_c [s]", "paper"},
-                      rows);
-  return md + "\n";
+  return out;
 }
 
-std::string RunsMarkdown(const TableResult& table) {
-  std::vector<std::string> header = {"seed", "converged"};
-  for (const auto& q : kQuantities) {
-    header.push_back(fmt::format("{} final [{}]", q, LaserUnit(q)));
-    header.push_back(fmt::format("{} late MAE", q));
-    header.push_back(q + " t_c [s]");
+// Per table (its TableJson): runs, converged runs, runs with |final alpha error| < 1 deg (the
+// paper's 5.1.3), and the mean and max convergence time of every quantity.
+ReportTable LaserConvergenceTable(
+    const std::vector<std::pair<std::string, nlohmann::json>>& tables) {
+  ReportTable out =
+      ReproTable("convergence", "Convergence: runs converged and convergence times t_c",
+                 {"table", "runs", "converged", "|final alpha error| < 1 deg"});
+  for (const auto& q : kQuantities)
+    out.columns.insert(out.columns.end(), {{q + " mean t_c", "s"}, {q + " max t_c", "s"}});
+  for (const auto& [name, json] : tables) {
+    std::vector<nlohmann::json> row = {name, json["runs"], json["runs_converged"],
+                                       json["runs_alpha_final_below_1deg"]};
+    for (const auto& q : kQuantities)
+      row.insert(row.end(), {json["quantities"][q]["mean_convergence_time_s"],
+                             json["quantities"][q]["max_convergence_time_s"]});
+    out.rows.push_back(std::move(row));
   }
-  std::vector<std::vector<std::string>> rows;
+  return out;
+}
+
+// Every run of one table: final error, late MAE and t_c of every quantity.
+ReportTable LaserRunsTable(const TableResult& table) {
+  ReportTable out =
+      ReproTable("runs_" + table.key, table.name + ": every run", {"seed", "converged"});
+  for (const auto& q : kQuantities)
+    out.columns.insert(
+        out.columns.end(),
+        {{q + " final", LaserUnit(q)}, {q + " late MAE", LaserUnit(q)}, {q + " t_c", "s"}});
   for (const auto& run : table.runs) {
-    std::vector<std::string> row = {std::to_string(run.seed),
-                                    run.note.empty() ? (run.converged ? "yes" : "no") : run.note};
+    std::vector<nlohmann::json> row = {
+        run.seed, run.note.empty() ? (run.converged ? "yes" : "no") : run.note};
     for (const auto& q : kQuantities) {
       const QuantityResult r = run.quantities.count(q) ? run.quantities.at(q) : QuantityResult{};
-      row.push_back(FormatNumber(r.final_error * Scale(q), 4));
-      row.push_back(FormatNumber(r.mae_late * Scale(q), 4));
-      row.push_back(FormatNumber(r.convergence_s, 2));
+      row.insert(row.end(), {r.final_error, r.mae_late, r.convergence_s});
     }
-    rows.push_back(row);
+    out.rows.push_back(std::move(row));
   }
-  return fmt::format("#### {}: every run\n\n", table.name) + MarkdownTable(header, rows) + "\n";
+  return out;
 }
 
 void AppendCsv(const TableResult& table, std::string* csv) {
@@ -250,9 +258,8 @@ void AppendCsv(const TableResult& table, std::string* csv) {
       const QuantityResult r = run.quantities.count(q) ? run.quantities.at(q) : QuantityResult{};
       // The table name holds a comma ("simulated, no bias"): quoted as RFC 4180 says.
       *csv += fmt::format("\"{}\",{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", table.name,
-                          run.seed, run.converged ? 1 : 0, q, LaserUnit(q),
-                          r.final_error * Scale(q), r.mae_after * Scale(q), r.mae_late * Scale(q),
-                          r.mae_all * Scale(q), r.convergence_s);
+                          run.seed, run.converged ? 1 : 0, q, LaserUnit(q), r.final_error,
+                          r.mae_after, r.mae_late, r.mae_all, r.convergence_s);
     }
   }
 }
@@ -322,8 +329,8 @@ constexpr const char* kEurocUnit = "euroc-laser";
 
 // One unit: {"runs": [RunResult, ...]} (one run; three for euroc-laser: raw, bias-corrected and
 // ground-truth IMU) and, for euroc-laser, the distance range of the data.
-nlohmann::json LaserUnitResult(const LaserSettings& settings, const std::string& unit,
-                               uint64_t seed) {
+nlohmann::json LaserUnitResult(const ReproSettings& raw, const std::string& unit, uint64_t seed) {
+  const LaserSettings settings = ParseLaserSettings(raw);
   nlohmann::json runs = nlohmann::json::array();
   ScenarioOptions scenario;
   scenario.seed = seed;
@@ -349,81 +356,27 @@ nlohmann::json LaserUnitResult(const LaserSettings& settings, const std::string&
   return {{"runs", runs}, {"distance_range_m", dataset.scenario_info.at("distance_range_m")}};
 }
 
-}  // namespace
-
-nlohmann::json RunLaserReproUnit(const std::map<std::string, std::string>& settings,
-                                 const std::string& unit, uint64_t seed) {
-  return LaserUnitResult(ParseLaserSettings(settings), unit, seed);
+// Units: (laser-plane, seed), (laser-plane-bias, seed) for every seed, (euroc-laser, seed) for the
+// first euroc_runs seeds.
+ReproPlan PlanLaser(const ReproSettings& settings, uint64_t) {
+  const LaserSettings parsed = ParseLaserSettings(settings);
+  ReproPlan plan{{{kNoBiasUnit}, {kBiasUnit}}, settings};
+  if (parsed.with_euroc) plan.units.push_back({kEurocUnit, parsed.euroc_runs});
+  return plan;
 }
 
-int RunLaserRepro(const ReproOptions& options) {
-  const LaserSettings settings = ParseLaserSettings(options.settings);
-  const std::map<std::string, std::string>& ekf_settings = settings.ekf;
-  const int runs = ReproRunCount(options, kLaserDefaultRuns);
-  const double duration_s = settings.duration_s;
-  const int euroc_runs = std::min(runs, settings.euroc_runs);
-  const bool with_euroc = settings.with_euroc;
-  Bands bands = settings.bands;
-
-  // Units: (laser-plane, seed), (laser-plane-bias, seed) for every seed, (euroc-laser, seed) for
-  // the first euroc_runs seeds.
-  ReproUnitGrid grid;
-  grid.runs = runs;
-  grid.unit_names = {kNoBiasUnit, kBiasUnit};
-  if (with_euroc) grid.unit_names.push_back(kEurocUnit);
-  for (size_t u = 0; u < grid.unit_names.size(); ++u)
-    for (int k = 0; k < (grid.unit_names[u] == kEurocUnit ? euroc_runs : runs); ++k)
-      grid.indices.push_back(u * static_cast<size_t>(runs) + static_cast<size_t>(k));
-  const std::vector<nlohmann::json> results =
-      RunReproUnits("laser", options, grid, [&](const std::string& unit, uint64_t seed) {
-        return LaserUnitResult(settings, unit, seed);
-      });
-
-  std::vector<TableResult> tables = {{"simulated, no bias", {}}, {"simulated, with bias", {}}};
-  std::string euroc_note;
-  if (with_euroc) {
-    tables.push_back({"euroc, raw IMU", {}});
-    tables.push_back({"euroc, IMU bias-corrected", {}});
-    tables.push_back({"euroc, IMU from ground truth", {}});
-  }
-  for (size_t i = 0; i < results.size(); ++i) {
-    const size_t u = grid.indices[i] / static_cast<size_t>(runs);
-    const nlohmann::json& unit_runs = results[i].at("runs");
-    for (size_t r = 0; r < unit_runs.size(); ++r)
-      tables[u == 2 ? 2 + r : u].runs.push_back(FromExactJson<RunResult>(unit_runs[r]));
-    if (u == 2 && euroc_note.empty()) euroc_note = results[i].at("distance_range_m");
-  }
-
-  // ---- report ----
-  nlohmann::json json;
-  json["paper"] =
-      "Martinelli & Troiani, Vision-Aided Inertial Navigation Using Virtual Features, INRIA "
-      "RR-7906, "
-      "2012, section 5";
-  json["estimator"] = "laser-ekf";
-  json["estimator_options"] = ekf_settings;
-  json["jobs"] = options.jobs;
-  json["runs"] = runs;
-  json["first_seed"] = options.seed;
-  json["laser_plane_duration_s"] = duration_s;
-  json["bands"] = {{"alpha_deg", bands.si["alpha"] / kDeg},
-                   {"roll_pitch_deg", bands.si["roll"] / kDeg},
-                   {"v_o_m_s", bands.si["v_o"]},
-                   {"d_m", bands.si["d"]}};
-  json["definitions"] =
-      "t_c: first time after which |error| stays within the band to the end; MAE after "
-      "convergence over t >= t_c; final error at the last sample; a run converged when every "
-      "quantity's mean |error| over the last quarter of the run is within its band; filter "
-      "started 10-20 % off the true modes";
+std::string LaserSetup(const LaserSettings& settings, const ReproRuns& runs,
+                       const std::string& euroc_note, size_t euroc_runs) {
+  const Bands& bands = settings.bands;
   std::string md = fmt::format(
-      "# mavloc repro laser\n\nMartinelli & Troiani, *Vision-Aided Inertial Navigation Using "
-      "Virtual Features*, INRIA RR-7906, 2012, section 5. Estimator `laser-ekf` (EKF on "
-      "m = [m1..m4, g_z], eq. 9-11, appendix C), started 10-20 % off the true modes (5.1.3).\n\n"
+      "Martinelli & Troiani, *Vision-Aided Inertial Navigation Using Virtual Features*, INRIA "
+      "RR-7906, 2012, section 5. Estimator `laser-ekf` (EKF on m = [m1..m4, g_z], eq. 9-11, "
+      "appendix C), started 10-20 % off the true modes (5.1.3).\n\n"
       "- simulated: scenario `laser-plane` ({} s, plane at 22.5 deg, L = 0.3 m, spot at 10 Hz "
-      "with 1 deg noise, IMU 100 Hz with 1 deg/s and 0.01 m/s^2), seeds {}..{}; with bias: "
+      "with 1 deg noise, IMU 100 Hz with 1 deg/s and 0.01 m/s^2), seeds {}; with bias: "
       "0.03 deg/s and 0.03 m/s^2 on every axis.\n",
-      duration_s, options.seed, options.seed + runs - 1);
-  if (with_euroc) {
+      settings.duration_s, runs.Seeds());
+  if (settings.with_euroc) {
     md += fmt::format(
         "- euroc: scenario `euroc-laser` (real EuRoC V1_01_easy IMU and full ground truth; the "
         "ground truth is T_W_B of the IMU frame; the spot is simulated for a virtual down-looking "
@@ -436,40 +389,83 @@ int RunLaserRepro(const ReproOptions& options) {
         "and 4.4 deg/s (gyro z), and the ASL estimate leaves a drift of about +-0.3 deg/s, which "
         "the paper's filter (no bias states) cannot model.\n",
         euroc_note, euroc_runs);
+  } else {
+    md += "- euroc: skipped (euroc=false).\n";
   }
   md += fmt::format(
       "\nConvergence time t_c: the first time after which |error| stays within the band until "
       "the end (alpha {} deg, roll/pitch {} deg, v_o {} m/s, d {} m); MAE after convergence: "
       "mean |error| over t >= t_c; a run converged when every quantity's mean |error| over the "
-      "last quarter of the run (late MAE) is within its band. Angles in degrees.\n\n",
-      bands.si["alpha"] / kDeg, bands.si["roll"] / kDeg, bands.si["v_o"], bands.si["d"]);
-  std::string runs_md;
+      "last quarter of the run (late MAE) is within its band.\n",
+      bands.si.at("alpha") / kDeg, bands.si.at("roll") / kDeg, bands.si.at("v_o"),
+      bands.si.at("d"));
+  return md;
+}
+
+Report SummarizeLaser(const ReproRuns& runs) {
+  const LaserSettings settings = ParseLaserSettings(runs.settings);
+  std::vector<TableResult> tables = {{"simulated, no bias", "simulated", "no_bias", {}},
+                                     {"simulated, with bias", "simulated", "with_bias", {}}};
+  if (settings.with_euroc)
+    tables.insert(tables.end(),
+                  {{"euroc, raw IMU", "euroc", "raw_imu", {}},
+                   {"euroc, IMU bias-corrected", "euroc", "bias_corrected", {}},
+                   {"euroc, IMU from ground truth", "euroc", "imu_from_ground_truth", {}}});
+  std::string euroc_note;
+  for (size_t u = 0; u < runs.results.size(); ++u) {
+    for (const auto& result : runs.results[u]) {
+      const nlohmann::json& unit_runs = result.at("runs");
+      for (size_t r = 0; r < unit_runs.size(); ++r)
+        tables[u == 2 ? 2 + r : u].runs.push_back(FromExactJson<RunResult>(unit_runs[r]));
+      if (u == 2 && euroc_note.empty()) euroc_note = result.at("distance_range_m");
+    }
+  }
+
+  Report report;
+  report.title = "mavloc repro laser";
+  report.provenance.input = settings.with_euroc ? "laser-plane, euroc-laser" : "laser-plane";
+  report.protocol = LaserProtocol();
   std::string csv =
       "table,seed,converged,quantity,unit,final_error,mae_after_convergence,mae_last_quarter,"
       "mae_all,convergence_time_s\n";
+  nlohmann::json json_tables;
+  std::vector<std::pair<std::string, nlohmann::json>> statistics;
   for (const auto& table : tables) {
-    md += SummaryMarkdown(table);
-    runs_md += RunsMarkdown(table);
+    statistics.emplace_back(table.name, TableJson(table));
     AppendCsv(table, &csv);
-    const std::string key =
-        table.name.rfind("simulated", 0) == 0
-            ? (table.name == "simulated, no bias" ? "no_bias" : "with_bias")
-            : (table.name == "euroc, raw IMU"
-                   ? "raw_imu"
-                   : (table.name == "euroc, IMU bias-corrected" ? "bias_corrected"
-                                                                : "imu_from_ground_truth"));
-    json["tables"][table.name.rfind("simulated", 0) == 0 ? "simulated" : "euroc"][key] =
-        TableJson(table);
+    json_tables[table.group][table.key] = statistics.back().second;
   }
-  if (!with_euroc) md += "(euroc table skipped: euroc=false)\n\n";
-  md += "## Every run\n\n" + runs_md;
-  ReportFiles files;
-  files.markdown = md;
-  files.json = json;
-  files.extra["runs.csv"] = csv;
-  files.protocol = LaserProtocol();
-  WriteReportFolder(options.report_dir, files);
-  return 0;
+  report.tables = {LaserErrorTable(statistics), LaserConvergenceTable(statistics)};
+  for (const auto& table : tables) report.tables.push_back(LaserRunsTable(table));
+  report.sections.push_back(
+      {"Setup", LaserSetup(settings, runs, euroc_note,
+                           settings.with_euroc ? runs.results.at(2).size() : 0)});
+  report.sections.back().before_tables = true;
+  report.files["runs.csv"] = csv;
+  const Bands& bands = settings.bands;
+  // The convergence bands in SI units (the definitions are in the setup section).
+  report.details = {{"bands",
+                     {{"alpha_rad", bands.si.at("alpha")},
+                      {"roll_pitch_rad", bands.si.at("roll")},
+                      {"v_o_m_s", bands.si.at("v_o")},
+                      {"d_m", bands.si.at("d")}}},
+                    {"tables", json_tables}};
+  return report;
+}
+
+}  // namespace
+
+ReproDefinition LaserRepro() {
+  return {
+      .name = "laser",
+      .description = "laser-spot paper 5.1 (laser-plane, with/without bias) and 5.2 (euroc-laser)",
+      .paper =
+          "Martinelli & Troiani, Vision-Aided Inertial Navigation Using Virtual Features, "
+          "INRIA RR-7906, 2012, section 5",
+      .default_runs = kLaserDefaultRuns,
+      .plan = PlanLaser,
+      .unit = LaserUnitResult,
+      .summarize = SummarizeLaser};
 }
 
 }  // namespace mavloc

@@ -23,25 +23,15 @@
 // (true; false skips the real-data table), data (EuRoC folder), band_alpha_deg, band_angle_deg,
 // band_v_o_m_s, band_d_m; ekf.KEY=VALUE passes an option to laser-ekf (e.g. ekf.gate_sigmas=5).
 //
-// Runs on the sweep machinery (evaluation/sweep/): the units are (laser-plane, seed),
-// (laser-plane-bias, seed) and (euroc-laser, seed) (the three EuRoC tables share a seed's dataset);
-// each returns its runs' results as JSON, so `--jobs N` (default: the core count) gives the numbers
-// of `--jobs 1`.
+// The units are (laser-plane, seed), (laser-plane-bias, seed) and (euroc-laser, seed) (the three
+// EuRoC tables share a seed's dataset); each returns its runs' results as JSON, so `--jobs N`
+// gives the numbers of `--jobs 1`.
 #pragma once
-
-#include <cstdint>
-#include <map>
-#include <nlohmann/json.hpp>
-#include <string>
 
 #include "evaluation/repro/repro.h"
 
 namespace mavloc {
 
-int RunLaserRepro(const ReproOptions& options);
-
-// One unit ("laser-plane", "laser-plane-bias" or "euroc-laser") for the seed.
-nlohmann::json RunLaserReproUnit(const std::map<std::string, std::string>& settings,
-                                 const std::string& unit, uint64_t seed);
+ReproDefinition LaserRepro();
 
 }  // namespace mavloc

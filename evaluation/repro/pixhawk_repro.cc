@@ -1,6 +1,7 @@
 #include "evaluation/repro/pixhawk_repro.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -40,14 +41,14 @@ struct Metrics {
   double runtime_s = 0.0;
   std::map<std::string, int> failure_reasons;
 
-  double PositionRmseCm() const { return n_p ? 100.0 * std::sqrt(sum_p2 / n_p) : kNaN; }
-  double PositionMaxCm() const { return n_p ? 100.0 * max_p : kNaN; }
+  double PositionRmse() const { return n_p ? std::sqrt(sum_p2 / n_p) : kNaN; }
+  double PositionMax() const { return n_p ? max_p : kNaN; }
   double JumpsPerRun() const { return runs ? static_cast<double>(jumps) / runs : kNaN; }
-  double YawRmseDeg() const { return n_yaw ? kRadToDeg * std::sqrt(sum_yaw2 / n_yaw) : kNaN; }
-  double RollPitchRmseDeg() const { return n_rp ? kRadToDeg * std::sqrt(sum_rp2 / n_rp) : kNaN; }
+  double YawRmse() const { return n_yaw ? std::sqrt(sum_yaw2 / n_yaw) : kNaN; }
+  double RollPitchRmse() const { return n_rp ? std::sqrt(sum_rp2 / n_rp) : kNaN; }
   double VelocityRmse() const { return n_v ? std::sqrt(sum_v2 / n_v) : kNaN; }
   double OutputPercent() const { return frames ? 100.0 * outputs / frames : kNaN; }
-  double MsPerFrame() const { return frames ? 1e3 * runtime_s / frames : kNaN; }
+  double SecondsPerFrame() const { return frames ? runtime_s / frames : kNaN; }
 
   // Adds another run's (or runs') sums: the per-configuration totals are the units' sums added in
   // seed order, so every --jobs gives the same bits.
@@ -211,58 +212,56 @@ std::vector<Metrics> RunConfigOnce(const PixhawkSettings& settings, const Pixhaw
 // Per configuration name: the Metrics of each variant, summed over the seeds.
 using PixhawkResults = std::map<std::string, std::vector<Metrics>>;
 
-std::string PixhawkNumber(double value, int digits = 2) { return FormatNumber(value, digits); }
+// For the prose: centimetres and degrees with `digits` decimals.
+std::string PixhawkCm(double metres, int digits = 2) {
+  return FormatNumber(100.0 * metres, digits);
+}
+std::string PixhawkDeg(double rad, int digits = 3) { return FormatNumber(kRadToDeg * rad, digits); }
+std::string PixhawkNumber(double value, int digits) { return FormatNumber(value, digits); }
 
 nlohmann::json MetricsJson(const Metrics& m) {
-  nlohmann::json j;
   const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
-  j["position_rmse_cm"] = num(m.PositionRmseCm());
-  j["position_max_cm"] = num(m.PositionMaxCm());
-  j["jumps_over_10cm_per_run"] = num(m.JumpsPerRun());
-  j["yaw_rmse_deg"] = num(m.YawRmseDeg());
-  j["roll_pitch_rmse_deg"] = num(m.RollPitchRmseDeg());
-  j["velocity_rmse_m_s"] = num(m.VelocityRmse());
-  j["outputs_percent"] = num(m.OutputPercent());
-  j["ms_per_frame"] = num(m.MsPerFrame());
-  j["runs"] = m.runs;
-  j["failures"] = m.failure_reasons;
-  return j;
+  return {{"position_rmse_m", num(m.PositionRmse())},
+          {"position_max_m", num(m.PositionMax())},
+          {"jumps_over_10cm_per_run", num(m.JumpsPerRun())},
+          {"yaw_rmse_rad", num(m.YawRmse())},
+          {"roll_pitch_rmse_rad", num(m.RollPitchRmse())},
+          {"velocity_rmse_m_s", num(m.VelocityRmse())},
+          {"outputs_percent", num(m.OutputPercent())},
+          {"runtime_s_per_frame", num(m.SecondsPerFrame())},
+          {"runs", m.runs},
+          {"failures", m.failure_reasons}};
 }
 
-// One table: rows of cells for Markdown/CSV and a JSON array.
-struct Table {
-  std::vector<std::string> header;
-  std::vector<std::vector<std::string>> rows;
+// One table of the report, its rows as details JSON and the notes that discuss it.
+struct PixhawkTable {
+  ReportTable table;
   nlohmann::json json = nlohmann::json::array();
-  std::string notes;
-
-  // RFC 4180: a cell holding a comma or a quote ("IMU attitude error [deg], all marker(s)") is
-  // quoted, its quotes doubled.
-  static std::string CsvCell(const std::string& cell) {
-    if (cell.find_first_of(",\"\n") == std::string::npos) return cell;
-    std::string quoted = "\"";
-    for (const char c : cell) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return quoted + "\"";
-  }
-  std::string Csv() const {
-    std::ostringstream out;
-    for (size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << CsvCell(header[i]);
-    out << "\n";
-    for (const auto& row : rows) {
-      for (size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << CsvCell(row[i]);
-      out << "\n";
-    }
-    return out.str();
-  }
+  std::string notes{};
 };
 
-const std::vector<std::string> kMetricHeader = {"pos RMSE [cm]",         "pos max [cm]",
-                                                "jumps>10cm /run",       "yaw RMSE [deg]",
-                                                "roll/pitch RMSE [deg]", "outputs [%]"};
-std::vector<std::string> MetricCells(const Metrics& m) {
-  return {PixhawkNumber(m.PositionRmseCm()),      PixhawkNumber(m.PositionMaxCm()),
-          PixhawkNumber(m.JumpsPerRun(), 1),      PixhawkNumber(m.YawRmseDeg(), 3),
-          PixhawkNumber(m.RollPitchRmseDeg(), 3), PixhawkNumber(m.OutputPercent(), 1)};
+const std::vector<std::string> kMetricColumns = {"position RMSE [m]",     "position max [m]",
+                                                 "jumps > 10 cm per run", "yaw RMSE [rad]",
+                                                 "roll/pitch RMSE [rad]", "outputs [%]"};
+std::vector<nlohmann::json> MetricCells(const Metrics& m) {
+  return {m.PositionRmse(), m.PositionMax(),   m.JumpsPerRun(),
+          m.YawRmse(),      m.RollPitchRmse(), m.OutputPercent()};
+}
+
+// A table whose columns are `leading`, the metric columns and `trailing`.
+ReportTable PixhawkMetricTable(const std::string& name, const std::string& title,
+                               std::vector<std::string> leading,
+                               const std::vector<std::string>& trailing = {}) {
+  leading.insert(leading.end(), kMetricColumns.begin(), kMetricColumns.end());
+  leading.insert(leading.end(), trailing.begin(), trailing.end());
+  return ReproTable(name, title, leading);
+}
+
+// A row: the leading cells, then the metric cells.
+std::vector<nlohmann::json> PixhawkMetricRow(std::vector<nlohmann::json> leading,
+                                             const Metrics& m) {
+  for (auto& cell : MetricCells(m)) leading.push_back(std::move(cell));
+  return leading;
 }
 
 PixhawkVariant Pnp() { return {"pnp", "pnp", {{"ransac", "0"}}}; }  // the paper's baseline
@@ -378,18 +377,15 @@ std::vector<PixhawkConfig> SelectedConfigs(const std::set<std::string>& tables) 
 // ---- the tables, from the summed Metrics of their configurations ----
 
 // fig15: the defaults.
-Table Fig15(const PixhawkResults& results) {
-  Table t;
-  t.header = {"estimator"};
-  t.header.insert(t.header.end(), kMetricHeader.begin(), kMetricHeader.end());
-  t.header.push_back("ms/frame");
+PixhawkTable Fig15(const PixhawkResults& results) {
+  PixhawkTable t{PixhawkMetricTable("fig15", "fig15: pnp vs upright-2p at the defaults",
+                                    {"estimator"}, {"runtime per frame [s]"})};
   const PixhawkConfig config = TableConfigs("fig15").front();
   const auto& metrics = results.at(config.name);
   for (size_t v = 0; v < config.variants.size(); ++v) {
-    auto row = MetricCells(metrics[v]);
-    row.insert(row.begin(), config.variants[v].label);
-    row.push_back(PixhawkNumber(metrics[v].MsPerFrame(), 3));
-    t.rows.push_back(row);
+    auto row = PixhawkMetricRow({config.variants[v].label}, metrics[v]);
+    row.push_back(metrics[v].SecondsPerFrame());
+    t.table.rows.push_back(std::move(row));
     nlohmann::json j = MetricsJson(metrics[v]);
     j["estimator"] = config.variants[v].label;
     t.json.push_back(j);
@@ -400,10 +396,9 @@ Table Fig15(const PixhawkResults& results) {
       "At the scenario's defaults (all markers in view, 1 px, IMU attitude from the gravity EKF: "
       "{} deg roll/pitch RMSE) upright-2p has {} cm position RMSE vs pnp's {} cm, max {} vs {} cm, "
       "{} vs {} jumps over 10 cm per run; pnp's own roll/pitch RMSE is {} deg.",
-      PixhawkNumber(u.RollPitchRmseDeg(), 3), PixhawkNumber(u.PositionRmseCm()),
-      PixhawkNumber(p.PositionRmseCm()), PixhawkNumber(u.PositionMaxCm()),
-      PixhawkNumber(p.PositionMaxCm()), PixhawkNumber(u.JumpsPerRun(), 1),
-      PixhawkNumber(p.JumpsPerRun(), 1), PixhawkNumber(p.RollPitchRmseDeg(), 3));
+      PixhawkDeg(u.RollPitchRmse()), PixhawkCm(u.PositionRmse()), PixhawkCm(p.PositionRmse()),
+      PixhawkCm(u.PositionMax()), PixhawkCm(p.PositionMax()), PixhawkNumber(u.JumpsPerRun(), 1),
+      PixhawkNumber(p.JumpsPerRun(), 1), PixhawkDeg(p.RollPitchRmse()));
   return t;
 }
 
@@ -415,17 +410,17 @@ struct SweepRow {
 };
 
 std::string Verdict(const Metrics& pnp, const Metrics& upright) {
-  const bool accurate = upright.PositionRmseCm() < pnp.PositionRmseCm();
+  const bool accurate = upright.PositionRmse() < pnp.PositionRmse();
   const bool smoother =
       upright.JumpsPerRun() < pnp.JumpsPerRun() ||
-      (upright.JumpsPerRun() == pnp.JumpsPerRun() && upright.PositionMaxCm() < pnp.PositionMaxCm());
+      (upright.JumpsPerRun() == pnp.JumpsPerRun() && upright.PositionMax() < pnp.PositionMax());
   if (accurate && smoother) return "upright-2p more accurate and smoother";
   if (accurate) return "upright-2p more accurate";
   if (smoother) return "upright-2p smoother, pnp more accurate";
   return "pnp better";
 }
 
-Table Sweep(const PixhawkResults& results) {
+std::vector<SweepRow> PixhawkSweepRows(const PixhawkResults& results) {
   std::vector<SweepRow> rows;
   for (const std::string markers : {"0", "1"}) {
     const auto& m = results.at(SweepAttitudeName(markers));
@@ -452,94 +447,91 @@ Table Sweep(const PixhawkResults& results) {
                     m[1],
                     {{"upright-2p without RANSAC", m[2]}}});
   }
-  Table t;
-  t.header = {"factor",        "value",
-              "pnp RMSE [cm]", "upright-2p RMSE [cm]",
-              "pnp max [cm]",  "upright-2p max [cm]",
-              "pnp jumps/run", "upright-2p jumps/run",
-              "pnp yaw [deg]", "upright-2p yaw [deg]",
-              "verdict"};
-  std::vector<std::string> wins, losses;
-  std::vector<std::string> outlier_notes;
-  for (const auto& r : rows) {
-    t.rows.push_back(
-        {r.dimension, r.value, PixhawkNumber(r.pnp.PositionRmseCm()),
-         PixhawkNumber(r.upright.PositionRmseCm()), PixhawkNumber(r.pnp.PositionMaxCm()),
-         PixhawkNumber(r.upright.PositionMaxCm()), PixhawkNumber(r.pnp.JumpsPerRun(), 1),
-         PixhawkNumber(r.upright.JumpsPerRun(), 1), PixhawkNumber(r.pnp.YawRmseDeg(), 3),
-         PixhawkNumber(r.upright.YawRmseDeg(), 3), Verdict(r.pnp, r.upright)});
-    nlohmann::json j;
-    j["factor"] = r.dimension;
-    j["value"] = r.value;
-    j["pnp"] = MetricsJson(r.pnp);
-    j["upright-2p"] = MetricsJson(r.upright);
-    for (const auto& [name, m] : r.extra) {
-      j[name] = MetricsJson(m);
-      outlier_notes.push_back(fmt::format(
-          "{} % outliers: pnp {} cm RMSE (max {}), upright-2p with RANSAC {} cm (max {}), "
-          "without RANSAC {} cm (max {})",
-          r.value, PixhawkNumber(r.pnp.PositionRmseCm()), PixhawkNumber(r.pnp.PositionMaxCm()),
-          PixhawkNumber(r.upright.PositionRmseCm()), PixhawkNumber(r.upright.PositionMaxCm()),
-          PixhawkNumber(m.PositionRmseCm()), PixhawkNumber(m.PositionMaxCm())));
-    }
-    j["verdict"] = Verdict(r.pnp, r.upright);
-    t.json.push_back(j);
-    const std::string where = r.dimension + " = " + r.value;
-    if (Verdict(r.pnp, r.upright) == "upright-2p more accurate and smoother")
-      wins.push_back(where);
-    else
-      losses.push_back(where + " (" + Verdict(r.pnp, r.upright) + ")");
-  }
-  std::ostringstream notes;
-  // Where the known vertical stops paying off in RMSE: the largest IMU attitude error at which
-  // upright-2p is still more accurate than pnp, per marker setting.
+  return rows;
+}
+
+// Where the known vertical stops paying off in RMSE (the largest IMU attitude error at which
+// upright-2p is still more accurate than pnp, per marker setting), where upright-2p wins, and the
+// outlier rows.
+std::string PixhawkSweepNotes(const std::vector<SweepRow>& rows) {
+  std::string notes{};
   for (const std::string markers : {"all", "1"}) {
     const std::string factor = fmt::format("IMU attitude error [deg], {} marker(s)", markers);
     std::string last_win = "none", first_loss = "none";
     double pnp_tilt = kNaN;
     for (const auto& r : rows) {
       if (r.dimension != factor) continue;
-      pnp_tilt = r.pnp.RollPitchRmseDeg();
-      if (r.upright.PositionRmseCm() < r.pnp.PositionRmseCm()) {
+      pnp_tilt = r.pnp.RollPitchRmse();
+      if (r.upright.PositionRmse() < r.pnp.PositionRmse()) {
         if (first_loss == "none") last_win = r.value;
       } else if (first_loss == "none") {
         first_loss = r.value;
       }
     }
-    notes << fmt::format(
+    notes += fmt::format(
         "With {} marker(s) in view (pnp's own roll/pitch RMSE {} deg), upright-2p's position "
         "RMSE is below pnp's up to an IMU attitude error of {} deg{}. ",
-        markers, PixhawkNumber(pnp_tilt, 3), last_win,
+        markers, PixhawkDeg(pnp_tilt), last_win,
         first_loss == "none" ? " (the whole sweep)" : ", not from " + first_loss + " deg on");
   }
-  notes << "\n\nupright-2p is more accurate and smoother than pnp at: ";
-  for (size_t i = 0; i < wins.size(); ++i) notes << (i ? "; " : "") << wins[i];
-  notes << ".\n\nNot (or only partly) at: ";
-  for (size_t i = 0; i < losses.size(); ++i) notes << (i ? "; " : "") << losses[i];
-  notes << ".\n\nOutliers (20-60 px): ";
-  for (size_t i = 0; i < outlier_notes.size(); ++i) notes << (i ? "; " : "") << outlier_notes[i];
-  notes << ".";
-  t.notes = notes.str();
+  std::vector<std::string> wins, losses, outliers;
+  for (const auto& r : rows) {
+    const std::string verdict = Verdict(r.pnp, r.upright);
+    if (verdict == "upright-2p more accurate and smoother")
+      wins.push_back(r.dimension + " = " + r.value);
+    else
+      losses.push_back(r.dimension + " = " + r.value + " (" + verdict + ")");
+    for (const auto& [name, m] : r.extra)
+      outliers.push_back(fmt::format(
+          "{} % outliers: pnp {} cm RMSE (max {}), upright-2p with RANSAC {} cm (max {}), "
+          "without RANSAC {} cm (max {})",
+          r.value, PixhawkCm(r.pnp.PositionRmse()), PixhawkCm(r.pnp.PositionMax()),
+          PixhawkCm(r.upright.PositionRmse()), PixhawkCm(r.upright.PositionMax()),
+          PixhawkCm(m.PositionRmse()), PixhawkCm(m.PositionMax())));
+  }
+  return notes + fmt::format(
+                     "\n\nupright-2p is more accurate and smoother than pnp at: {}.\n\nNot (or "
+                     "only partly) at: {}.\n\nOutliers (20-60 px): {}.",
+                     fmt::join(wins, "; "), fmt::join(losses, "; "), fmt::join(outliers, "; "));
+}
+
+PixhawkTable Sweep(const PixhawkResults& results) {
+  const std::vector<SweepRow> rows = PixhawkSweepRows(results);
+  PixhawkTable t{
+      ReproTable("sweep", "sweep: where the known vertical helps",
+                 {"factor", "value", "pnp RMSE [m]", "upright-2p RMSE [m]", "pnp max [m]",
+                  "upright-2p max [m]", "pnp jumps per run", "upright-2p jumps per run",
+                  "pnp yaw RMSE [rad]", "upright-2p yaw RMSE [rad]", "verdict"})};
+  for (const auto& r : rows) {
+    t.table.rows.push_back({r.dimension, r.value, r.pnp.PositionRmse(), r.upright.PositionRmse(),
+                            r.pnp.PositionMax(), r.upright.PositionMax(), r.pnp.JumpsPerRun(),
+                            r.upright.JumpsPerRun(), r.pnp.YawRmse(), r.upright.YawRmse(),
+                            Verdict(r.pnp, r.upright)});
+    nlohmann::json j = {{"factor", r.dimension},
+                        {"value", r.value},
+                        {"pnp", MetricsJson(r.pnp)},
+                        {"upright-2p", MetricsJson(r.upright)},
+                        {"verdict", Verdict(r.pnp, r.upright)}};
+    for (const auto& [name, m] : r.extra) j[name] = MetricsJson(m);
+    t.json.push_back(j);
+  }
+  t.notes = PixhawkSweepNotes(rows);
   return t;
 }
 
-Table Kf(const PixhawkResults& results) {
-  Table t;
-  t.header = {"condition", "estimator"};
-  t.header.insert(t.header.end(), kMetricHeader.begin(), kMetricHeader.end());
-  t.header.push_back("velocity RMSE [m/s]");
-  t.header.push_back("rejected or predicted frames");
+PixhawkTable Kf(const PixhawkResults& results) {
+  PixhawkTable t{PixhawkMetricTable("kf", "kf: 4 x 1-D constant-velocity Kalman filters",
+                                    {"condition", "estimator"},
+                                    {"velocity RMSE [m/s]", "rejected or predicted frames"})};
   const auto configs = TableConfigs("kf");
   for (size_t c = 0; c < configs.size(); ++c) {
     const auto& metrics = results.at(configs[c].name);
     for (size_t v = 0; v < configs[c].variants.size(); ++v) {
       const Metrics& m = metrics[v];
-      auto row = MetricCells(m);
-      row.insert(row.begin(), configs[c].variants[v].label);
-      row.insert(row.begin(), kKfConditions[c].label);
-      row.push_back(PixhawkNumber(m.VelocityRmse(), 3));
-      row.push_back(fmt::format("{}", m.failures));
-      t.rows.push_back(row);
+      auto row = PixhawkMetricRow({kKfConditions[c].label, configs[c].variants[v].label}, m);
+      row.push_back(m.VelocityRmse());
+      row.push_back(m.failures);
+      t.table.rows.push_back(std::move(row));
       nlohmann::json j = MetricsJson(m);
       j["condition"] = kKfConditions[c].label;
       j["estimator"] = configs[c].variants[v].label;
@@ -554,10 +546,9 @@ Table Kf(const PixhawkResults& results) {
   return t;
 }
 
-Table Timestamps(const PixhawkResults& results) {
-  Table t;
-  t.header = {"speed [m/s]", "stamps", "estimator"};
-  t.header.insert(t.header.end(), kMetricHeader.begin(), kMetricHeader.end());
+PixhawkTable Timestamps(const PixhawkResults& results) {
+  PixhawkTable t{PixhawkMetricTable("timestamps", "timestamps: exposure vs arrival stamps",
+                                    {"speed [m/s]", "stamps", "estimator"})};
   const auto configs = TableConfigs("timestamps");
   size_t c = 0;
   for (const double speed : kSpeedsMs) {
@@ -565,11 +556,8 @@ Table Timestamps(const PixhawkResults& results) {
       const PixhawkConfig& config = configs[c++];
       const auto& metrics = results.at(config.name);
       for (size_t v = 0; v < config.variants.size(); ++v) {
-        auto row = MetricCells(metrics[v]);
-        row.insert(row.begin(), config.variants[v].label);
-        row.insert(row.begin(), stamp_case.label);
-        row.insert(row.begin(), fmt::format("{}", speed));
-        t.rows.push_back(row);
+        t.table.rows.push_back(
+            PixhawkMetricRow({speed, stamp_case.label, config.variants[v].label}, metrics[v]));
         nlohmann::json j = MetricsJson(metrics[v]);
         j["speed_m_s"] = speed;
         j["stamps"] = stamp_case.label;
@@ -586,8 +574,8 @@ Table Timestamps(const PixhawkResults& results) {
 }
 
 // One unit: {"variants": [sums of each variant's Metrics]} for the configuration and seed.
-nlohmann::json PixhawkUnitResult(const PixhawkSettings& settings, const std::string& unit,
-                                 uint64_t seed) {
+nlohmann::json PixhawkUnitResult(const ReproSettings& raw, const std::string& unit, uint64_t seed) {
+  const PixhawkSettings settings = ParsePixhawkSettings(raw);
   for (const auto& table : kTableOrder) {
     for (const auto& config : TableConfigs(table)) {
       if (config.name != unit) continue;
@@ -600,84 +588,71 @@ nlohmann::json PixhawkUnitResult(const PixhawkSettings& settings, const std::str
   throw InputError("repro pixhawk: no unit '" + unit + "'");
 }
 
-}  // namespace
-
-nlohmann::json RunPixhawkReproUnit(const std::map<std::string, std::string>& settings,
-                                   const std::string& unit, uint64_t seed) {
-  return PixhawkUnitResult(ParsePixhawkSettings(settings), unit, seed);
+// Units: (configuration, seed) for every configuration of the selected tables. The scenario
+// settings are checked once, before the long runs (the registry's generate also rejects keys the
+// scenario does not have).
+ReproPlan PlanPixhawk(const ReproSettings& settings, uint64_t) {
+  const PixhawkSettings parsed = ParsePixhawkSettings(settings);
+  ScenarioOptions check;
+  check.settings = parsed.base;
+  check.duration_s = parsed.duration_s;
+  FindScenario("marker-board-flight")->generate(check);
+  ReproPlan plan{{}, settings};
+  for (const auto& config : SelectedConfigs(parsed.tables)) plan.units.push_back({config.name});
+  return plan;
 }
 
-int RunPixhawkRepro(const ReproOptions& options) {
-  const PixhawkSettings settings = ParsePixhawkSettings(options.settings);
-  const int runs = ReproRunCount(options, kPixhawkDefaultRuns);
-  // Validate the scenario settings once, before the long runs (the registry's generate also
-  // rejects keys the scenario does not have).
-  {
-    ScenarioOptions check;
-    check.settings = settings.base;
-    check.duration_s = settings.duration_s;
-    FindScenario("marker-board-flight")->generate(check);
-  }
-
-  // Units: (configuration, seed); the runs' sums are added in seed order.
+Report SummarizePixhawk(const ReproRuns& runs) {
+  const PixhawkSettings settings = ParsePixhawkSettings(runs.settings);
   const std::vector<PixhawkConfig> configs = SelectedConfigs(settings.tables);
-  ReproUnitGrid grid;
-  grid.runs = runs;
-  for (const auto& c : configs) grid.unit_names.push_back(c.name);
-  const std::vector<nlohmann::json> unit_results =
-      RunReproUnits("pixhawk", options, grid, [&](const std::string& unit, uint64_t seed) {
-        return PixhawkUnitResult(settings, unit, seed);
-      });
-  PixhawkResults results;
-  for (size_t i = 0; i < unit_results.size(); ++i) {
-    const PixhawkConfig& config = configs[i / static_cast<size_t>(runs)];
-    auto& total = results[config.name];
-    total.resize(config.variants.size());
-    const nlohmann::json& variants = unit_results[i].at("variants");
-    for (size_t v = 0; v < config.variants.size(); ++v)
-      total[v].Add(FromExactJson<Metrics>(variants.at(v)));
+  PixhawkResults results;  // the runs' sums, added in seed order
+  for (size_t c = 0; c < configs.size(); ++c) {
+    auto& total = results[configs[c].name];
+    total.resize(configs[c].variants.size());
+    for (const auto& result : runs.results[c])
+      for (size_t v = 0; v < total.size(); ++v)
+        total[v].Add(FromExactJson<Metrics>(result.at("variants").at(v)));
   }
+  std::vector<PixhawkTable> tables;
+  if (settings.tables.count("fig15")) tables.push_back(Fig15(results));
+  if (settings.tables.count("sweep")) tables.push_back(Sweep(results));
+  if (settings.tables.count("kf")) tables.push_back(Kf(results));
+  if (settings.tables.count("timestamps")) tables.push_back(Timestamps(results));
 
-  std::map<std::string, Table> tables;
-  if (settings.tables.count("fig15")) tables["fig15"] = Fig15(results);
-  if (settings.tables.count("sweep")) tables["sweep"] = Sweep(results);
-  if (settings.tables.count("kf")) tables["kf"] = Kf(results);
-  if (settings.tables.count("timestamps")) tables["timestamps"] = Timestamps(results);
-
-  ReportFiles files;
-  std::ostringstream md;
-  md << "# PIXHAWK marker localization (Meier et al., Autonomous Robots 2012)\n\n"
-     << fmt::format("Scenario marker-board-flight, {} run(s) per configuration, seeds {}..{}", runs,
-                    options.seed, options.seed + runs - 1);
-  if (settings.duration_s) md << fmt::format(", flight cut at {} s", *settings.duration_s);
-  md << ".\n\nMetrics pooled over every output frame of every run: position error |p_est - "
-        "p_true| (truth interpolated at the output stamp, no alignment), RMSE and max; jumps: "
-        "consecutive outputs whose position error changes by more than 10 cm (per run); yaw and "
-        "roll/pitch RMSE. The paper gives fig. 15 as a plot only (no numbers): the comparison is "
-        "qualitative (upright-2p smoother and more accurate, no large jumps).\n";
-  nlohmann::json json;
-  json["paper"] = "Meier et al., PIXHAWK, Autonomous Robots 2012, sections 3.2-3.3, 5.1, 7.1-7.2";
-  json["runs"] = runs;
-  json["seed"] = options.seed;
-  json["jobs"] = options.jobs;
-  const std::map<std::string, std::string> titles = {
-      {"fig15", "fig15: pnp vs upright-2p at the defaults"},
-      {"sweep", "sweep: where the known vertical helps"},
-      {"kf", "kf: 4 x 1-D constant-velocity Kalman filters"},
-      {"timestamps", "timestamps: exposure vs arrival stamps"}};
-  for (const auto& name : kTableOrder) {
-    const auto it = tables.find(name);
-    if (it == tables.end()) continue;
-    md << "\n## " << titles.at(name) << "\n\n"
-       << MarkdownTable(it->second.header, it->second.rows) << "\n"
-       << it->second.notes << "\n";
-    json["tables"][name] = {{"rows", it->second.json}, {"notes", it->second.notes}};
-    files.extra[name + ".csv"] = it->second.Csv();
+  Report report;
+  report.title = "PIXHAWK marker localization (Meier et al., Autonomous Robots 2012)";
+  report.provenance.input = "marker-board-flight";
+  report.sections.push_back(
+      {"Setup",
+       fmt::format(
+           "Scenario marker-board-flight, {} run(s) per configuration, seeds {}{}.\n\n", runs.runs,
+           runs.Seeds(),
+           settings.duration_s ? fmt::format(", flight cut at {} s", *settings.duration_s) : "") +
+           "Metrics pooled over every output frame of every run: position error |p_est - "
+           "p_true| (truth interpolated at the output stamp, no alignment), RMSE and max; jumps: "
+           "consecutive outputs whose position error changes by more than 10 cm (per run); yaw "
+           "and roll/pitch RMSE. The paper gives fig. 15 as a plot only (no numbers): the "
+           "comparison is qualitative (upright-2p smoother and more accurate, no large jumps).\n"});
+  report.sections.back().before_tables = true;
+  for (auto& t : tables) {
+    report.sections.push_back({t.table.title, t.notes + "\n"});
+    report.details["tables"][t.table.name] = {{"rows", t.json}};
+    report.files[t.table.name + ".csv"] = ReproTableCsv(t.table);
+    report.tables.push_back(std::move(t.table));
   }
-  files.markdown = md.str();
-  files.json = json;
-  WriteReportFolder(options.report_dir, files);
-  return 0;
+  return report;
+}
+
+}  // namespace
+
+ReproDefinition PixhawkRepro() {
+  return {.name = "pixhawk",
+          .description = "PIXHAWK fig. 15 (pnp vs upright-2p), sweep, 4 x 1-D KF, time stamps",
+          .paper = "Meier et al., PIXHAWK, Autonomous Robots 2012, sections 3.2-3.3, 5.1, 7.1-7.2",
+          .default_runs = kPixhawkDefaultRuns,
+          .plan = PlanPixhawk,
+          .unit = PixhawkUnitResult,
+          .summarize = SummarizePixhawk};
 }
 
 }  // namespace mavloc

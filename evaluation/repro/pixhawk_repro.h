@@ -2,7 +2,7 @@
 // sections 3.2, 3.3, 5.1, 7.1-7.2, fig. 15) on the scenario marker-board-flight, N Monte-Carlo
 // seeds per configuration (default 5).
 //
-// Tables (each in report.md, report.json "tables", and <table>.csv):
+// Tables (each in report.md, report.json "tables" and details "tables", and <table>.csv):
 //   fig15      pnp (vision-only, 4-point baseline) vs upright-2p (IMU roll/pitch + known-vertical
 //              2-point RANSAC + least squares) on the same corners at the scenario's defaults, the
 //              roll/pitch coming from the gravity EKF of the three-point paper on the simulated
@@ -19,34 +19,23 @@
 //              with compensation of the mean delay, at 0.5 and 1.5 m/s.
 //
 // Metrics, pooled over every frame with an output of every run: position error e = |p_est -
-// p_true| (truth interpolated at the estimate's stamp, no alignment): RMSE and max in cm; jumps:
+// p_true| (truth interpolated at the estimate's stamp, no alignment): RMSE and max; jumps:
 // consecutive outputs (<= 0.1 s apart) whose position error changes by more than 10 cm, per run;
-// yaw and roll/pitch RMSE in deg; velocity RMSE (kf); outputs: % of camera frames with an
-// estimate.
+// yaw and roll/pitch RMSE; velocity RMSE (kf); outputs: % of camera frames with an estimate.
 //
 // Settings (`--set key=value`): tables (comma list, default "fig15,sweep,kf,timestamps");
 // duration_s (cut the flight, for quick runs); any other key goes to the scenario.
 //
-// Runs on the sweep machinery (evaluation/sweep/): a unit is one configuration of a table (its
-// scenario settings and variants, e.g. "sweep-pixel-noise-2" or "kf-frames-dropped") and one seed,
-// and returns the sums behind each variant's metrics as JSON; the report adds them in seed order,
-// so `--jobs N` (default: the core count) gives the numbers of `--jobs 1` (only ms/frame, a wall
-// time, differs).
+// A unit is one configuration of a table (its scenario settings and variants, e.g.
+// "sweep-pixel-noise-2" or "kf-frames-dropped") and one seed, and returns the sums behind each
+// variant's metrics as JSON; the summary adds them in seed order, so `--jobs N` gives the numbers
+// of `--jobs 1` (only the time per frame, a wall time, differs).
 #pragma once
-
-#include <cstdint>
-#include <map>
-#include <nlohmann/json.hpp>
-#include <string>
 
 #include "evaluation/repro/repro.h"
 
 namespace mavloc {
 
-int RunPixhawkRepro(const ReproOptions& options);
-
-// One unit: the configuration `unit` (see above) simulated with `seed`, every variant measured.
-nlohmann::json RunPixhawkReproUnit(const std::map<std::string, std::string>& settings,
-                                   const std::string& unit, uint64_t seed);
+ReproDefinition PixhawkRepro();
 
 }  // namespace mavloc

@@ -13,28 +13,15 @@
 
 namespace mavloc {
 
-const std::vector<ReproEntry>& ReproRegistry() {
-  static const std::vector<ReproEntry> kEntries = {
-      {"three-point", "three-point paper Table I (2p vs 3p) and a noise x height sweep",
-       RunThreePointRepro, RunThreePointReproUnit},
-      {"pixhawk", "PIXHAWK fig. 15 (pnp vs upright-2p), sweep, 4 x 1-D KF, time stamps",
-       RunPixhawkRepro, RunPixhawkReproUnit},
-      {"laser", "laser-spot paper 5.1 (laser-plane, with/without bias) and 5.2 (euroc-laser)",
-       RunLaserRepro, RunLaserReproUnit},
-      {"apriltag", "AprilTag paper V: render -> detect -> EKF; hover Monte-Carlo, dynamic, NEES",
-       RunAprilTagRepro, RunAprilTagReproUnit},
-      {"smoother", "smoother vs its seed and the papers' filter, every visual scenario",
-       RunSmootherRepro, RunSmootherReproUnit},
-      {"euroc-imu-april",
-       "smoother calibration (T_B_C, t_d, gravity) and the papers' tag estimators on "
-       "EuRoC's real imu_april log, against EuRoC's official calibration",
-       RunEurocImuAprilRepro, nullptr},
+const std::vector<ReproDefinition>& ReproRegistry() {
+  static const std::vector<ReproDefinition> kDefinitions = {
+      ThreePointRepro(), PixhawkRepro(),  LaserRepro(),
+      AprilTagRepro(),   SmootherRepro(), EurocImuAprilRepro(),
   };
-  return kEntries;
+  return kDefinitions;
 }
 
-void RejectUnknownReproSettings(const std::string& repro,
-                                const std::map<std::string, std::string>& settings,
+void RejectUnknownReproSettings(const std::string& repro, const ReproSettings& settings,
                                 const std::vector<std::string>& known) {
   for (const auto& [key, value] : settings) {
     if (std::find(known.begin(), known.end(), key) != known.end()) continue;
@@ -46,14 +33,13 @@ void RejectUnknownReproSettings(const std::string& repro,
 }
 
 void RegisterReproUnitKinds() {
-  for (const auto& entry : ReproRegistry())
-    if (entry.unit) RegisterSweepUnitKind(entry.name, entry.unit);
+  for (const auto& repro : ReproRegistry())
+    if (repro.unit) RegisterSweepUnitKind(repro.name, repro.unit);
 }
 
-const ReproEntry* FindRepro(const std::string& name) {
-  for (const auto& entry : ReproRegistry()) {
-    if (entry.name == name) return &entry;
-  }
+const ReproDefinition* FindRepro(const std::string& name) {
+  for (const auto& repro : ReproRegistry())
+    if (repro.name == name) return &repro;
   return nullptr;
 }
 

@@ -791,29 +791,27 @@ LaserEfficiencySums LaserEfficiencyOf(const RowResult& r, BoundKind kind) {
 
 // Laser-only scenarios: per estimator and observable quantity the bound that fits it
 // and RMSE / bound with its Monte-Carlo standard error.
-std::string LaserEfficiencyMarkdown(const ScenarioResult& s) {
-  std::vector<std::vector<std::string>> rows;
+ReportTable LaserEfficiencyTable(const ScenarioResult& s) {
+  ReportTable table = ReproTable(
+      s.plan.scenario + "_laser_efficiency",
+      s.plan.scenario + ": laser quantities against the Cramér–Rao bound", {"estimator", "bound"});
   const auto& names = LaserQuantityNames();
+  for (size_t k = 0; k < names.size(); ++k) {
+    table.columns.push_back({names[k] + " bound", LaserQuantityUnits()[k]});
+    table.columns.push_back({names[k] + " RMSE / bound", ""});
+    table.columns.push_back({names[k] + " ratio standard error", ""});
+  }
   for (const auto& r : s.rows) {
     const bool smoothing = UsesSmoothingBound(r.row);
     const LaserEfficiencySums e =
         LaserEfficiencyOf(r, smoothing ? BoundKind::kSmoothing : BoundKind::kFiltering);
     if (e.quantities.empty()) continue;
-    std::vector<std::string> row = {r.row.label, smoothing ? "smoothing" : "filtering"};
-    for (const auto& q : names) {
-      const double scale = (q == "d" || q == "v_o") ? 1e3 : 1.0 / kDeg;
-      row.push_back(fmt::format("{} / {} ± {}", FormatNumber(scale * e.BoundRms(q), 3),
-                                FormatNumber(e.Ratio(q), 3),
-                                FormatNumber(e.RatioStandardError(q), 2)));
-    }
-    rows.push_back(row);
+    std::vector<nlohmann::json> row = {r.row.label, smoothing ? "smoothing" : "filtering"};
+    for (const auto& q : names)
+      row.insert(row.end(), {e.BoundRms(q), e.Ratio(q), e.RatioStandardError(q)});
+    table.rows.push_back(std::move(row));
   }
-  if (rows.empty()) return "";
-  return "Laser quantities against the bound (bound RMS over keyframes and runs / RMSE ÷ bound ± "
-         "its Monte-Carlo standard error; d in mm, v_o in mm/s, angles in deg): the position and "
-         "attitude of laser-only data are bounded only in the smoother's gauge, so the observable "
-         "quantities of RR-7906 sect. 4 are compared instead.\n\n" +
-         MarkdownTable({"estimator", "bound", "d", "v_o", "roll", "pitch", "alpha"}, rows) + "\n";
+  return table;
 }
 
 nlohmann::json LaserEfficiencyJson(const LaserEfficiencySums& e) {
@@ -830,74 +828,77 @@ nlohmann::json LaserEfficiencyJson(const LaserEfficiencySums& e) {
 
 // The efficiency table: per estimator the bound that fits it (RMS over keyframes and
 // runs of its standard deviation) and RMSE / bound, squared errors summed over runs first.
-std::string EfficiencyMarkdown(const ScenarioResult& s) {
-  if (s.bound_runs == 0)
-    return fmt::format("Cramér–Rao bound: not available ({}).\n\n",
-                       s.bound_unavailable.empty() ? "no run" : s.bound_unavailable);
-  if (s.plan.laser)
-    return fmt::format("Cramér–Rao bound: {} of the runs have one ({} s per bound){}.\n\n",
-                       s.bound_runs, FormatNumber(s.bound_compute_s, 3),
-                       s.bound_unavailable.empty() ? "" : "; the others: " + s.bound_unavailable) +
-           LaserEfficiencyMarkdown(s);
-  std::string md = fmt::format(
-      "Efficiency against the Cramér–Rao bound ({} runs with a bound; {} s per bound): the "
-      "smoother against the smoothing bound of its batch problem, the causal estimators against "
-      "the filtering (posterior, Tichavsky et al. 1998) bound; bound = RMS over the compared "
-      "keyframes and runs of sqrt(trace) of the position / attitude block; ratio = "
-      "sqrt(sum of squared errors / sum of bound variances) over the same keyframes and runs.\n\n",
-      s.bound_runs, FormatNumber(s.bound_compute_s, 3));
-  std::vector<std::vector<std::string>> rows;
+ReportTable EfficiencyTable(const ScenarioResult& s) {
+  ReportTable table =
+      ReproTable(s.plan.scenario + "_efficiency",
+                 s.plan.scenario + ": efficiency against the Cramér–Rao bound",
+                 {"estimator", "bound", "position bound [m]", "position RMSE / bound",
+                  "attitude bound [rad]", "attitude RMSE / bound", "keyframes per run"});
   for (const auto& r : s.rows) {
     for (const BoundKind kind : {BoundKind::kSmoothing, BoundKind::kFiltering}) {
       const bool fits = UsesSmoothingBound(r.row) == (kind == BoundKind::kSmoothing);
       if (!fits && r.row.role != Role::kSmoother) continue;
       const EfficiencySums e = EfficiencyOf(r, kind);
       if (e.frames == 0) continue;
-      rows.push_back(
-          {r.row.label, kind == BoundKind::kSmoothing ? "smoothing" : "filtering",
-           FormatNumber(1e3 * e.PositionBoundRms(), 3), FormatNumber(e.PositionRatio(), 3),
-           FormatNumber(e.AttitudeBoundRms() / kDeg, 4), FormatNumber(e.AttitudeRatio(), 3),
-           FormatNumber(1.0 * e.frames / std::max(1, e.runs), 0)});
+      table.rows.push_back({r.row.label, kind == BoundKind::kSmoothing ? "smoothing" : "filtering",
+                            e.PositionBoundRms(), e.PositionRatio(), e.AttitudeBoundRms(),
+                            e.AttitudeRatio(), 1.0 * e.frames / std::max(1, e.runs)});
     }
   }
-  md += MarkdownTable({"estimator", "bound", "position bound [mm]", "position RMSE / bound",
-                       "attitude bound [deg]", "attitude RMSE / bound", "keyframes per run"},
-                      rows);
-  return md + "\n";
+  return table;
+}
+
+// What the efficiency table compares, or why there is none.
+std::string EfficiencyProse(const ScenarioResult& s) {
+  if (s.bound_runs == 0)
+    return fmt::format("Cramér–Rao bound: not available ({}).\n\n",
+                       s.bound_unavailable.empty() ? "no run" : s.bound_unavailable);
+  if (s.plan.laser)
+    return fmt::format(
+        "Cramér–Rao bound: {} of the runs have one ({} s per bound){}. Laser quantities against "
+        "the bound (bound RMS over keyframes and runs, RMSE ÷ bound and its Monte-Carlo standard "
+        "error): the position and attitude of laser-only data are bounded only in the smoother's "
+        "gauge, so the observable quantities of RR-7906 sect. 4 are compared instead.\n\n",
+        s.bound_runs, FormatNumber(s.bound_compute_s, 3),
+        s.bound_unavailable.empty() ? "" : "; the others: " + s.bound_unavailable);
+  return fmt::format(
+      "Efficiency against the Cramér–Rao bound ({} runs with a bound; {} s per bound): the "
+      "smoother against the smoothing bound of its batch problem, the causal estimators against "
+      "the filtering (posterior, Tichavsky et al. 1998) bound; bound = RMS over the compared "
+      "keyframes and runs of sqrt(trace) of the position / attitude block; ratio = "
+      "sqrt(sum of squared errors / sum of bound variances) over the same keyframes and runs.\n\n",
+      s.bound_runs, FormatNumber(s.bound_compute_s, 3));
 }
 
 // Consistency of the estimators that return covariances.
-std::string ConsistencyMarkdown(const ScenarioResult& s) {
-  std::vector<std::vector<std::string>> rows;
+ReportTable ConsistencyTable(const ScenarioResult& s) {
+  ReportTable table = ReproTable(
+      s.plan.scenario + "_consistency",
+      s.plan.scenario + ": consistency (ANEES of the estimators' own covariances)",
+      {"estimator", "runs", "95 % band low", "95 % band high", "time steps", "ANEES position",
+       "position inside band [%]", "ANEES attitude", "attitude inside band [%]"});
   for (const auto& r : s.rows) {
     const AneesSummary p = SummarizeAnees(r.nees.position, r.nees.runs);
     const AneesSummary a = SummarizeAnees(r.nees.attitude, r.nees.runs);
     if (!p.available && !a.available) continue;
-    const auto cells = [](const AneesSummary& x) -> std::vector<std::string> {
-      if (!x.available) return {"", ""};
-      return {FormatNumber(x.mean_anees, 2), FormatNumber(100.0 * x.fraction_inside, 0) + " %"};
-    };
     const AneesSummary& any = p.available ? p : a;
-    std::vector<std::string> row = {
-        r.row.label, std::to_string(any.runs),
-        fmt::format("[{}, {}]", FormatNumber(any.band_low, 2), FormatNumber(any.band_high, 2)),
-        std::to_string(any.steps)};
-    for (const auto& c : cells(p)) row.push_back(c);
-    for (const auto& c : cells(a)) row.push_back(c);
-    rows.push_back(row);
+    std::vector<nlohmann::json> row = {r.row.label, any.runs, any.band_low, any.band_high,
+                                       any.steps};
+    for (const AneesSummary* x : {&p, &a}) {
+      row.push_back(x->available ? nlohmann::json(x->mean_anees) : nlohmann::json());
+      row.push_back(x->available ? nlohmann::json(100.0 * x->fraction_inside) : nlohmann::json());
+    }
+    table.rows.push_back(std::move(row));
   }
-  if (rows.empty()) return "";
-  return "Consistency (judged on simulations only: the only data whose errors and noise are "
-         "known): ANEES = NEES of the estimator's own covariance averaged over the runs per time "
-         "step (3 dof each for position x y z and attitude roll pitch yaw; expectation 3), its "
-         "two-sided 95 % band chi^2(3N)/N, the mean over the time steps every run reached and the "
-         "share of those steps inside the band. Below the band: the covariance is pessimistic; "
-         "above: over-confident.\n\n" +
-         MarkdownTable({"estimator", "runs", "95 % band", "time steps", "ANEES position",
-                        "position inside band", "ANEES attitude", "attitude inside band"},
-                       rows) +
-         "\n";
+  return table;
 }
+
+constexpr const char* kConsistencyProse =
+    "Consistency (judged on simulations only: the only data whose errors and noise are known): "
+    "ANEES = NEES of the estimator's own covariance averaged over the runs per time step (3 dof "
+    "each for position x y z and attitude roll pitch yaw; expectation 3), its two-sided 95 % band "
+    "chi^2(3N)/N, the mean over the time steps every run reached and the share of those steps "
+    "inside the band. Below the band: the covariance is pessimistic; above: over-confident.\n\n";
 
 nlohmann::json AneesJson(const AneesSummary& x) {
   if (!x.available) return nullptr;
@@ -955,7 +956,7 @@ std::string AneesCsv(const ScenarioResult& s) {
 nlohmann::json EfficiencyJson(const EfficiencySums& e) {
   return {{"position_bound_rms_m", e.PositionBoundRms()},
           {"position_rmse_over_bound", e.PositionRatio()},
-          {"attitude_bound_rms_deg", e.AttitudeBoundRms() / kDeg},
+          {"attitude_bound_rms_rad", e.AttitudeBoundRms()},
           {"attitude_rmse_over_bound", e.AttitudeRatio()},
           {"keyframes", e.frames},
           {"runs", e.runs},
@@ -965,10 +966,6 @@ nlohmann::json EfficiencyJson(const EfficiencySums& e) {
           {"per_run_attitude_bound_variance_rad2", e.run_attitude_bound2}};
 }
 
-std::string Cell(double value, double scale, int digits) {
-  return FormatNumber(value * scale, digits);
-}
-
 std::string WinCell(const ScenarioResult& s, const RowResult& r) {
   if (r.row.role == Role::kSmoother || r.row.role == Role::kVariant) return "";
   const WinCount& w = s.wins.at(r.row.label);
@@ -976,77 +973,74 @@ std::string WinCell(const ScenarioResult& s, const RowResult& r) {
   return fmt::format("{} / {} / {} of {}", w.first, w.second, w.all, w.judged);
 }
 
-std::string ScenarioMarkdown(const ScenarioResult& s, int runs) {
-  std::string md = fmt::format("## {} ({} runs, {} s each)\n\n", s.plan.scenario, runs,
-                               FormatNumber(s.duration_s, 1));
+double MeanOver(const RowResult& r, const std::function<double(const RunMetrics&)>& f) {
+  return MeanOfFinite(r.Collect(f));
+}
+
+// The scenario's table: per estimator the mean over runs of its errors (laser scenarios: the
+// quantities of RR-7906), frames without a solution, run time and the smoother's wins.
+ReportTable ScenarioTable(const ScenarioResult& s, int runs) {
+  ReportTable table = ReproTable(
+      s.plan.scenario,
+      fmt::format("{} ({} runs, {} s each)", s.plan.scenario, runs, FormatNumber(s.duration_s, 1)),
+      s.plan.laser ? std::vector<std::string>{"estimator", "role", "d [m]", "v_o [m/s]",
+                                              "roll [rad]", "pitch [rad]", "alpha [rad]",
+                                              "no solution", "runtime [s]", "smoother wins (all 5)"}
+                   : std::vector<std::string>{"estimator", "role", "position RMSE [m]",
+                                              "attitude RMSE [rad]", "roll [rad]", "pitch [rad]",
+                                              "poses evaluated", "no solution", "runtime [s]",
+                                              "smoother wins (pos / att / both)"});
+  for (const auto& r : s.rows) {
+    std::vector<nlohmann::json> row = {r.row.label, RoleName(r.row.role)};
+    if (s.plan.laser) {
+      for (const auto& q : kLaserQuantities)
+        row.push_back(MeanOver(r, [&](const RunMetrics& m) { return Rmse(m, q); }));
+    } else if (r.RanCount() == 0) {
+      row.push_back("skipped: " + r.SkippedReason());
+      row.resize(table.columns.size());
+      table.rows.push_back(std::move(row));
+      continue;
+    } else {
+      row.insert(row.end(),
+                 {MeanOver(r, [](const RunMetrics& m) { return m.position_rmse_m; }),
+                  MeanOver(r, [](const RunMetrics& m) { return m.attitude_rmse_rad; }),
+                  MeanOver(r, [](const RunMetrics& m) { return Rmse(m, "roll"); }),
+                  MeanOver(r, [](const RunMetrics& m) { return Rmse(m, "pitch"); }),
+                  MeanOver(r, [](const RunMetrics& m) { return 1.0 * m.poses_evaluated; })});
+    }
+    row.insert(row.end(),
+               {r.MeanFailures(), MeanOver(r, [](const RunMetrics& m) { return m.runtime_s; }),
+                WinCell(s, r)});
+    table.rows.push_back(std::move(row));
+  }
+  return table;
+}
+
+// The scenario's prose: its settings, what its table shows, the verdicts and what the bound and
+// consistency tables compare.
+ReportSection ScenarioSection(const ScenarioResult& s, int runs) {
+  std::string md;
   if (!s.plan.scenario_settings.empty()) {
     std::string settings;
     for (const auto& [key, value] : s.plan.scenario_settings)
       settings += (settings.empty() ? "" : ", ") + key + "=" + value;
     md += fmt::format("Scenario settings: {}.\n\n", settings);
   }
-  std::vector<std::vector<std::string>> rows;
-  std::vector<std::string> header;
-  if (s.plan.laser) {
-    header = {"estimator",   "role",        "d [m]",       "v_o [m/s]",   "roll [deg]",
-              "pitch [deg]", "alpha [deg]", "no solution", "runtime [s]", "smoother wins (all 5)"};
-    for (const auto& r : s.rows) {
-      std::vector<std::string> row = {r.row.label, RoleName(r.row.role)};
-      for (const auto& q : kLaserQuantities) {
-        const double scale = (q == "d" || q == "v_o") ? 1.0 : 1.0 / kDeg;
-        row.push_back(Cell(MeanOfFinite(r.Collect([&](const RunMetrics& m) { return Rmse(m, q); })),
-                           scale, 4));
-      }
-      row.push_back(FormatNumber(r.MeanFailures(), 1));
-      row.push_back(FormatNumber(
-          MeanOfFinite(r.Collect([](const RunMetrics& m) { return m.runtime_s; })), 3));
-      row.push_back(WinCell(s, r));
-      rows.push_back(row);
-    }
-    md +=
-        "Mean over runs of each quantity's RMSE (roll, pitch of the camera relative to the "
-        "plane).\n\n";
-  } else {
-    header = {"estimator",          "role",
-              "position RMSE [mm]", "attitude RMSE [deg]",
-              "roll [deg]",         "pitch [deg]",
-              "poses evaluated",    "no solution",
-              "runtime [s]",        "smoother wins (pos / att / both)"};
-    for (const auto& r : s.rows) {
-      std::vector<std::string> row = {r.row.label, RoleName(r.row.role)};
-      if (r.RanCount() == 0) {
-        row.push_back("skipped: " + r.SkippedReason());
-        row.resize(header.size());
-        rows.push_back(row);
-        continue;
-      }
-      row.push_back(Cell(
-          MeanOfFinite(r.Collect([](const RunMetrics& m) { return m.position_rmse_m; })), 1e3, 2));
-      row.push_back(
-          Cell(MeanOfFinite(r.Collect([](const RunMetrics& m) { return m.attitude_rmse_rad; })),
-               1 / kDeg, 3));
-      row.push_back(
-          Cell(MeanOfFinite(r.Collect([](const RunMetrics& m) { return Rmse(m, "roll"); })),
-               1 / kDeg, 3));
-      row.push_back(
-          Cell(MeanOfFinite(r.Collect([](const RunMetrics& m) { return Rmse(m, "pitch"); })),
-               1 / kDeg, 3));
-      row.push_back(FormatNumber(
-          MeanOfFinite(r.Collect([](const RunMetrics& m) { return 1.0 * m.poses_evaluated; })), 0));
-      row.push_back(FormatNumber(r.MeanFailures(), 1));
-      row.push_back(FormatNumber(
-          MeanOfFinite(r.Collect([](const RunMetrics& m) { return m.runtime_s; })), 3));
-      row.push_back(WinCell(s, r));
-      rows.push_back(row);
-    }
-    md +=
-        "Mean over runs of the ATE RMSE (alignment none, each estimator over its own poses), "
-        "and of the roll and pitch RMSE; 'no solution': frames per run.\n\n";
-  }
-  md += MarkdownTable(header, rows) + "\n";
+  md += s.plan.laser
+            ? "Mean over runs of each quantity's RMSE (roll, pitch of the camera relative to the "
+              "plane).\n\n"
+            : "Mean over runs of the ATE RMSE (alignment none, each estimator over its own poses), "
+              "and of the roll and pitch RMSE; 'no solution': frames per run.\n\n";
   for (const auto& line : Verdicts(s)) md += "- " + line + "\n";
-  md += "\n" + EfficiencyMarkdown(s) + ConsistencyMarkdown(s);
-  return md + "\n";
+  md += "\n" + EfficiencyProse(s);
+  const bool consistency = std::any_of(s.rows.begin(), s.rows.end(), [](const RowResult& r) {
+    return SummarizeAnees(r.nees.position, r.nees.runs).available ||
+           SummarizeAnees(r.nees.attitude, r.nees.runs).available;
+  });
+  if (consistency) md += kConsistencyProse;
+  return {
+      fmt::format("{} ({} runs, {} s each)", s.plan.scenario, runs, FormatNumber(s.duration_s, 1)),
+      md};
 }
 
 nlohmann::json ScenarioJson(const ScenarioResult& s) {
@@ -1064,28 +1058,22 @@ nlohmann::json ScenarioJson(const ScenarioResult& s) {
     e["runs"] = r.RanCount();
     if (r.RanCount() == 0) e["skipped"] = r.SkippedReason();
     const auto position = r.Collect([](const RunMetrics& m) { return m.position_rmse_m; });
-    std::vector<double> attitude_deg;
-    for (const double a : r.Collect([](const RunMetrics& m) { return m.attitude_rmse_rad; }))
-      attitude_deg.push_back(a / kDeg);
+    const auto attitude = r.Collect([](const RunMetrics& m) { return m.attitude_rmse_rad; });
     e["position_rmse_m"] = MeanOfFinite(position);
-    e["attitude_rmse_deg"] = MeanOfFinite(attitude_deg);
+    e["attitude_rmse_rad"] = MeanOfFinite(attitude);
     e["per_run_position_rmse_m"] = position;
-    e["per_run_attitude_rmse_deg"] = attitude_deg;
+    e["per_run_attitude_rmse_rad"] = attitude;
     nlohmann::json quantities = nlohmann::json::object();
     std::vector<std::string> names =
         s.plan.laser ? kLaserQuantities : std::vector<std::string>{"roll", "pitch", "yaw"};
     for (const auto& q : names) {
-      const bool angle = q != "d" && q != "v_o";
-      std::vector<double> values;
-      for (const double v : r.Collect([&](const RunMetrics& m) { return Rmse(m, q); }))
-        values.push_back(angle ? v / kDeg : v);
-      std::vector<double> early;
-      for (const double v : r.Collect([&](const RunMetrics& m) { return EarlyRmse(m, q); }))
-        early.push_back(angle ? v / kDeg : v);
-      quantities[q] = {{"rmse", MeanOfFinite(values)},
-                       {"per_run_rmse", values},
-                       {"rmse_first_10s", MeanOfFinite(early)},
-                       {"unit", angle ? "deg" : (q == "d" ? "m" : "m/s")}};
+      const auto values = r.Collect([&](const RunMetrics& m) { return Rmse(m, q); });
+      quantities[q] = {
+          {"rmse", MeanOfFinite(values)},
+          {"per_run_rmse", values},
+          {"rmse_first_10s",
+           MeanOfFinite(r.Collect([&](const RunMetrics& m) { return EarlyRmse(m, q); }))},
+          {"unit", q == "d" ? "m" : (q == "v_o" ? "m/s" : "rad")}};
     }
     e["quantity_rmse"] = quantities;
     if (r.row.role == Role::kSmoother && !s.plan.laser) {
@@ -1139,107 +1127,103 @@ nlohmann::json ScenarioJson(const ScenarioResult& s) {
   return j;
 }
 
-}  // namespace
+// The scenarios the settings ask for, and the ones skipped with the reason.
+struct SmootherPlans {
+  std::vector<Plan> plans;
+  std::map<std::string, std::string> skipped;
+};
 
-nlohmann::json RunSmootherReproUnit(const std::map<std::string, std::string>& raw,
-                                    const std::string& scenario, uint64_t seed) {
+SmootherPlans MakeSmootherPlans(const ReproSettings& raw) {
+  const SmootherSettings settings = ParseSettings(raw);
+  const bool explicit_list = raw.count("scenarios") > 0;
+  const std::vector<std::string> scenarios =
+      explicit_list ? SplitList(raw.at("scenarios")) : kAllScenarios;
+  if (scenarios.empty()) throw InputError("repro smoother: scenarios is empty");
+  SmootherPlans out;
+  for (const auto& name : scenarios) {
+    Plan plan = MakePlan(name, settings.smoother_options);  // throws for an unknown name
+    if (!FindScenario(name)) {
+      out.skipped[name] = "scenario not in this build";
+      continue;
+    }
+    // euroc-laser needs the shared real data: by default it is skipped when the scenario's own
+    // look-up finds none; named explicitly (or with euroc_data) the scenario reports the error.
+    if (name == "euroc-laser" && !explicit_list && settings.euroc_data.empty() &&
+        FindDefaultEurocLaserData().empty()) {
+      out.skipped[name] = "shared EuRoC V1_01_easy data not found (set euroc_data=PATH)";
+      continue;
+    }
+    settings.DurationFor(name);  // a bad duration fails before any run
+    out.plans.push_back(std::move(plan));
+  }
+  return out;
+}
+
+// Every (scenario, seed) is a unit.
+ReproPlan PlanSmoother(const ReproSettings& settings, uint64_t) {
+  ReproPlan plan{{}, settings};
+  for (const auto& p : MakeSmootherPlans(settings).plans) plan.units.push_back({p.scenario});
+  return plan;
+}
+
+nlohmann::json RunSmootherReproUnit(const ReproSettings& raw, const std::string& scenario,
+                                    uint64_t seed) {
   const SmootherSettings settings = ParseSettings(raw);
   const Plan plan = MakePlan(scenario, settings.smoother_options);
   if (!FindScenario(scenario)) throw InputError("repro smoother: no scenario '" + scenario + "'");
   return RunUnit(plan, seed, settings.DurationFor(scenario), settings.euroc_data);
 }
 
-int RunSmootherRepro(const ReproOptions& options) {
-  const SmootherSettings settings = ParseSettings(options.settings);
-  const int runs = ReproRunCount(options, kSmootherDefaultRuns);
-  const std::string& euroc_data = settings.euroc_data;
-  const bool explicit_list = options.settings.count("scenarios") > 0;
-  const std::vector<std::string> scenarios =
-      explicit_list ? SplitList(options.settings.at("scenarios")) : kAllScenarios;
-  if (scenarios.empty()) throw InputError("repro smoother: scenarios is empty");
-
-  std::vector<Plan> plans;
-  std::map<std::string, std::string> skipped;
-  for (const auto& name : scenarios) {
-    Plan plan = MakePlan(name, settings.smoother_options);  // throws for an unknown name
-    if (!FindScenario(name)) {
-      skipped[name] = "scenario not in this build";
-      continue;
-    }
-    // euroc-laser needs the shared real data: by default it is skipped when the scenario's own
-    // look-up finds none; named explicitly (or with euroc_data) the scenario reports the error.
-    if (name == "euroc-laser" && !explicit_list && euroc_data.empty() &&
-        FindDefaultEurocLaserData().empty()) {
-      skipped[name] = "shared EuRoC V1_01_easy data not found (set euroc_data=PATH)";
-      continue;
-    }
-    settings.DurationFor(name);  // a bad duration fails before any run
-    plans.push_back(std::move(plan));
-  }
-
-  // Every (scenario, seed) is a unit.
-  const auto start = std::chrono::steady_clock::now();
-  ReproUnitGrid grid;
-  grid.runs = runs;
-  for (const auto& plan : plans) grid.unit_names.push_back(plan.scenario);
-  const std::vector<nlohmann::json> units =
-      RunReproUnits("smoother", options, grid, [&](const std::string& unit, uint64_t seed) {
-        const auto plan = std::find_if(plans.begin(), plans.end(),
-                                       [&](const Plan& p) { return p.scenario == unit; });
-        return RunUnit(*plan, seed, settings.DurationFor(unit), euroc_data);
-      });
-  std::vector<ScenarioResult> results;
-  for (size_t p = 0; p < plans.size(); ++p)
-    results.push_back(MakeScenarioResult(plans[p], UnitRuns(units, p, runs)));
-  const double elapsed_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-  nlohmann::json json;
-  json["reproduction"] = "smoother";
-  json["claim"] =
-      "the smoother is more accurate than its seed and than the papers' filter on the same data";
-  json["runs"] = runs;
-  json["first_seed"] = options.seed;
-  json["settings"] = options.settings;
-  json["evaluation"] =
-      "ATE with alignment none (translation RMSE, rotation-angle RMSE) over each estimator's own "
-      "poses, associated within 20 ms; quantity RMSE from the quantity errors; means over runs";
-  json["skipped_scenarios"] = skipped;
-  json["elapsed_s"] = elapsed_s;
-  json["jobs"] = options.jobs;
-  json["tables"] = nlohmann::json::object();
-
-  std::string md = fmt::format(
-      "# mavloc repro smoother\n\n"
-      "The claim tested: on every scenario with visual residuals, over {} seeds ({}..{}), the "
-      "Ceres batch smoother against its seed estimator(s) and the paper's filter, all on the same "
+Report SummarizeSmoother(const ReproRuns& runs) {
+  const SmootherPlans plans = MakeSmootherPlans(runs.settings);
+  Report report;
+  report.title = "mavloc repro smoother";
+  std::string setup = fmt::format(
+      "The claim tested: on every scenario with visual residuals, over {} seeds ({}), the Ceres "
+      "batch smoother against its seed estimator(s) and the paper's filter, all on the same "
       "simulated dataset per seed. Position and attitude: ATE RMSE with alignment none over each "
       "estimator's own poses (the filters at IMU rate, the others at camera frames; associated "
       "within 20 ms); the numbers are means over runs. A run counts for the smoother when it is "
       "more accurate on both position and attitude (gravity-ekf: roll and pitch; laser "
       "scenarios: all of d, v_o, roll, pitch, alpha). Wins columns: runs better on position / "
-      "attitude / both, of the runs where both ran.\n\n",
-      runs, options.seed, options.seed + runs - 1);
-  for (const auto& [name, reason] : skipped) md += fmt::format("- {} skipped: {}\n", name, reason);
-  if (!skipped.empty()) md += "\n";
-  std::map<std::string, std::string> extra;
-  for (const auto& result : results) {
-    md += ScenarioMarkdown(result, runs);
-    json["tables"][result.plan.scenario] = ScenarioJson(result);
+      "attitude / both, of the runs where both ran.\n",
+      runs.runs, runs.Seeds());
+  for (const auto& [name, reason] : plans.skipped)
+    setup += fmt::format("\n- {} skipped: {}", name, reason);
+  report.sections.push_back({"Setup", setup + "\n"});
+  report.sections.back().before_tables = true;
+  nlohmann::json tables = nlohmann::json::object();
+  for (size_t p = 0; p < plans.plans.size(); ++p) {
+    const ScenarioResult result = MakeScenarioResult(plans.plans[p], runs.results[p]);
+    const std::string& scenario = result.plan.scenario;
+    report.provenance.input += (report.provenance.input.empty() ? "" : ", ") + scenario;
+    report.tables.push_back(ScenarioTable(result, runs.runs));
+    if (result.bound_runs > 0)
+      report.tables.push_back(result.plan.laser ? LaserEfficiencyTable(result)
+                                                : EfficiencyTable(result));
+    if (ReportTable consistency = ConsistencyTable(result); !consistency.rows.empty())
+      report.tables.push_back(std::move(consistency));
+    report.sections.push_back(ScenarioSection(result, runs.runs));
+    tables[scenario] = ScenarioJson(result);
     if (result.bound_runs > 0 && !result.plan.laser)
-      extra["crlb_" + result.plan.scenario + ".csv"] = EfficiencyCsv(result);
+      report.files["crlb_" + scenario + ".csv"] = EfficiencyCsv(result);
     const std::string anees = AneesCsv(result);
-    if (!anees.empty()) extra["anees_" + result.plan.scenario + ".csv"] = anees;
+    if (!anees.empty()) report.files["anees_" + scenario + ".csv"] = anees;
   }
-  md += fmt::format("Total run time {} s ({} job{}).\n", FormatNumber(elapsed_s, 1), options.jobs,
-                    options.jobs == 1 ? "" : "s");
+  report.details = {{"skipped_scenarios", plans.skipped}, {"tables", tables}};
+  return report;
+}
 
-  ReportFiles files;
-  files.markdown = md;
-  files.json = json;
-  files.extra = extra;
-  WriteReportFolder(options.report_dir, files);
-  return 0;
+}  // namespace
+
+ReproDefinition SmootherRepro() {
+  return {.name = "smoother",
+          .description = "smoother vs its seed and the papers' filter, every visual scenario",
+          // mavloc's own claim about the estimators of the four papers: no paper of its own.
+          .default_runs = kSmootherDefaultRuns,
+          .plan = PlanSmoother,
+          .unit = RunSmootherReproUnit,
+          .summarize = SummarizeSmoother};
 }
 
 }  // namespace mavloc

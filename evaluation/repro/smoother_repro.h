@@ -27,27 +27,17 @@
 // option for every scenario).
 //
 // Runs on the sweep machinery (evaluation/sweep/): every (scenario, seed) is one unit whose result
-// is JSON (RunSmootherReproUnit: the per-estimator metrics, NEES and Cramér–Rao sums of that run),
+// is JSON (the per-estimator metrics, NEES and Cramér–Rao sums of that run),
 // and the report is made from those results, in this process (--jobs 1) or from sweep workers
 // (`repro smoother --jobs N`), with the same numbers either way. Estimators with their own thread
 // pool (the smoother's Ceres solve) run on one thread unless `smoother.threads` says otherwise, so
 // that the numbers do not depend on --jobs.
 #pragma once
 
-#include <cstdint>
-#include <map>
-#include <nlohmann/json.hpp>
-#include <string>
-
 #include "evaluation/repro/repro.h"
 
 namespace mavloc {
 
-int RunSmootherRepro(const ReproOptions& options);
-
-// One run: `scenario` simulated with `seed`, every row of its table run and evaluated. Throws
-// InputError for bad settings.
-nlohmann::json RunSmootherReproUnit(const std::map<std::string, std::string>& settings,
-                                    const std::string& scenario, uint64_t seed);
+ReproDefinition SmootherRepro();
 
 }  // namespace mavloc

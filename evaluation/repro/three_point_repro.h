@@ -23,24 +23,15 @@
 // Sweep geometry for height h: start 1.25 h above the triangle's centroid, goal h (0.5, 0.3, 1)
 // from it (h = 0.4 m is the scenario's default).
 //
-// Runs on the sweep machinery (evaluation/sweep/): every (configuration, seed) is a unit whose
-// result, the sums of each variant's per-frame errors, goes through its JSON text; `--jobs N`
-// (default: the core count) runs the units in N workers with the same numbers as `--jobs 1`.
+// Each (configuration, seed) is a unit (table1, row0, row1, ...) whose result is the sums of each
+// variant's per-frame errors; `--jobs N` runs the units in N workers with the numbers of `--jobs
+// 1`.
 #pragma once
-
-#include <cstdint>
-#include <map>
-#include <nlohmann/json.hpp>
-#include <string>
 
 #include "evaluation/repro/repro.h"
 
 namespace mavloc {
 
-int RunThreePointRepro(const ReproOptions& options);
-
-// One unit: configuration `label` ("table1", "row0", ...) of the settings, Monte-Carlo seed.
-nlohmann::json RunThreePointReproUnit(const std::map<std::string, std::string>& settings,
-                                      const std::string& label, uint64_t seed);
+ReproDefinition ThreePointRepro();
 
 }  // namespace mavloc

@@ -10,7 +10,8 @@ TagPnpEstimator::TagPnpEstimator(const EstimatorOptions& options)
     : camera_name_(options.GetString("camera", "")),
       board_(ParseBoardInitOptions(options)),
       ransac_(ParseCornerRansacOptions(options)),
-      map_check_(ParseTagMapCheckOptions(options)) {}
+      map_check_(ParseTagMapCheckOptions(options)),
+      refine_(ParseTagMapRefineOptions(options)) {}
 
 Applicability TagPnpEstimator::AppliesTo(const Dataset& dataset) const {
   if (dataset.tags.empty()) return Applicability::No("needs tags0 observations");
@@ -42,10 +43,35 @@ Estimate TagPnpEstimator::RunInWorld(const Dataset& dataset) const {
   }
   const TagMapCheck check = CheckTagMap(frames, dataset.map.tags, camera, ransac_, map_check_);
   estimate.events = check.events;
+  const std::map<int, TagInfo> tags =
+      refine_.enabled ? RefinedMap(frames, dataset.map.tags, camera, &estimate) : dataset.map.tags;
   for (const std::vector<TagObservation>& frame : frames)
-    RecordFramePose(CornerPnpRansac(frame, dataset.map.tags, camera, ransac_), frame.front().t_ns,
-                    &estimate);
+    RecordFramePose(CornerPnpRansac(frame, tags, camera, ransac_), frame.front().t_ns, &estimate);
   return estimate;
+}
+
+std::map<int, TagInfo> TagPnpEstimator::RefinedMap(
+    const std::vector<std::vector<TagObservation>>& frames, const std::map<int, TagInfo>& tags,
+    const CameraSensor& camera, Estimate* estimate) const {
+  // First poses: the per-frame RANSAC PnP; a frame whose tags do not agree on the loose map (no
+  // two within the threshold) starts from its best single tag, and the bundle adjustment decides.
+  CornerRansacOptions any_tag = ransac_;
+  any_tag.min_inlier_tags = 1;
+  std::vector<TagMapRefineFrame> posed;
+  for (const std::vector<TagObservation>& frame : frames) {
+    CornerRansacResult first = CornerPnpRansac(frame, tags, camera, ransac_);
+    if (!first.pnp.ok && ransac_.enabled) first = CornerPnpRansac(frame, tags, camera, any_tag);
+    if (first.pnp.ok) posed.push_back({frame, first.pnp.T_W_B});
+  }
+  const TagMapRefinement refined = RefineTagMap(posed, tags, camera, refine_);
+  if (!refined.ok) {
+    estimate->events.push_back("tag map not refined: " + refined.reason);
+    return tags;
+  }
+  estimate->events.push_back(refined.Summary());
+  estimate->parameters["map_shift_max"] = {refined.MaxShift_m(), std::nullopt, "m"};
+  estimate->parameters["map_shift_median"] = {refined.MedianShift_m(), std::nullopt, "m"};
+  return refined.tags;
 }
 
 }  // namespace mavloc

@@ -10,17 +10,25 @@
 // core/board_frame.h from the first gravity_init_s seconds of PnP poses and IMU
 // (solver/board/board_world.h); every frame, those of the window included, is then solved in W,
 // and the estimate carries T_W_M and board_roll, board_pitch.
+// refine_map=1 first refines the map's tag poses from the log (solver/pose/tag_map_refine.h: one
+// bundle adjustment over the first pass's posed frames and the tags, each tag tied to its map pose)
+// and then poses every frame again on the refined map; how far the tags moved is reported in the
+// events and as the parameters map_shift_max and map_shift_median (m).
 // Options: camera (default: the tags' camera, cameras[0]), gravity_init_s (2), gravity_min_tags
 // (2), ransac (1), ransac_threshold_px (4), ransac_min_tags (2), single_tag (1),
-// min_ambiguity_ratio (0), map_check (1).
+// min_ambiguity_ratio (0), map_check (1), refine_map (0), refine_sigma_m (0.1),
+// refine_sigma_rad (0.1), refine_loss (cauchy), refine_loss_px (2), refine_gate_px (8).
 #pragma once
 
+#include <map>
 #include <string>
+#include <vector>
 
 #include "solver/board/board_world.h"
 #include "solver/estimator.h"
 #include "solver/pose/corner_pnp_ransac.h"
 #include "solver/pose/tag_map_check.h"
+#include "solver/pose/tag_map_refine.h"
 
 namespace mavloc {
 
@@ -33,11 +41,16 @@ class TagPnpEstimator : public Estimator {
 
  private:
   Estimate RunInWorld(const Dataset& dataset) const;
+  // The map refined from the first pass's poses (refine_map=1), its summary in the estimate.
+  std::map<int, TagInfo> RefinedMap(const std::vector<std::vector<TagObservation>>& frames,
+                                    const std::map<int, TagInfo>& tags, const CameraSensor& camera,
+                                    Estimate* estimate) const;
 
   std::string camera_name_;
   BoardInitOptions board_;
   CornerRansacOptions ransac_;
   TagMapCheckOptions map_check_;
+  TagMapRefineOptions refine_;
 };
 
 }  // namespace mavloc

@@ -20,13 +20,13 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "datasets/io/rosbag/ros_messages.h"
+#include "frontends/image_io.h"
 #include "tests/test_support.h"
 
 extern char** environ;
@@ -223,7 +223,7 @@ void WriteImageBag(const std::string& out) {
   uint32_t sequence = 0;
   for (int repeat = 0; repeat < 2; ++repeat) {
     for (const std::string& path : paths) {
-      const cv::Mat image = cv::imread(path, cv::IMREAD_GRAYSCALE);
+      const cv::Mat image = LoadGrayImage(path);
       ASSERT_FALSE(image.empty()) << path;
       ros1::ImageMsg message;
       message.header.seq = sequence;

@@ -11,11 +11,11 @@
 #include <filesystem>
 #include <map>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
 
+#include "core/image_codec.h"
 #include "core/subprocess.h"
 #include "tests/test_support.h"
 
@@ -90,8 +90,11 @@ TEST(ReportScreenshot, ChromiumRendersTheCompareReportWithItsFigures) {
   ASSERT_EQ(chromium.exit_code, 0) << chromium.out;
   ASSERT_TRUE(fs::exists(screenshot)) << chromium.out;
 
-  const cv::Mat image = cv::imread(screenshot, cv::IMREAD_COLOR);
-  ASSERT_FALSE(image.empty()) << screenshot << " does not decode";
+  std::string why;
+  cv::Mat image =
+      DecodeImage(testing::ReadFileBytes(screenshot), ImageDecodeMode::kUnchanged, &why);
+  ASSERT_FALSE(image.empty()) << screenshot << " does not decode: " << why;
+  if (image.channels() == 4) cv::cvtColor(image, image, cv::COLOR_BGRA2BGR);
   EXPECT_EQ(image.cols, kWidth);
   EXPECT_EQ(image.rows, kHeight);
 

@@ -26,9 +26,25 @@ std::string Read(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+bool IsWallTime(const std::string& key) {
+  return key.find("runtime") != std::string::npos ||
+         key.find("ms_per_frame") != std::string::npos || key == "elapsed_s" || key == "jobs" ||
+         key == "cramer_rao_compute_s" || key == "command";
+}
+
 // The report without its wall-clock fields (run times, times per frame, the bound's compute time,
-// the job count).
+// the job count), in details and in the tables' columns.
 nlohmann::json WithoutTimes(const nlohmann::json& json) {
+  if (json.is_object() && json.contains("columns") && json.contains("rows")) {
+    nlohmann::json table = json;
+    for (size_t k = table["columns"].size(); k-- > 0;) {
+      if (!IsWallTime(table["columns"][k].value("name", ""))) continue;
+      table["columns"].erase(k);
+      for (auto& row : table["rows"])
+        if (k < row.size()) row.erase(k);
+    }
+    return table;
+  }
   if (json.is_array()) {
     nlohmann::json out = nlohmann::json::array();
     for (const auto& item : json) out.push_back(WithoutTimes(item));
@@ -37,9 +53,7 @@ nlohmann::json WithoutTimes(const nlohmann::json& json) {
   if (!json.is_object()) return json;
   nlohmann::json out = nlohmann::json::object();
   for (const auto& [key, value] : json.items()) {
-    if (key.find("runtime") != std::string::npos || key.find("ms_per_frame") != std::string::npos ||
-        key == "elapsed_s" || key == "jobs" || key == "cramer_rao_compute_s" || key == "command")
-      continue;
+    if (IsWallTime(key)) continue;
     out[key] = WithoutTimes(value);
   }
   return out;
@@ -48,7 +62,8 @@ nlohmann::json WithoutTimes(const nlohmann::json& json) {
 // Runs `command` (a repro without --report) with --jobs 1 and --jobs 2 into dir/serial and
 // dir/parallel; returns the two report.json, after checking the exit codes and the recorded jobs.
 struct TwoRuns {
-  nlohmann::json serial, parallel;
+  nlohmann::json serial, parallel;                // the reports' details
+  nlohmann::json serial_report, parallel_report;  // the whole report.json
 };
 
 TwoRuns RunSerialAndParallel(const std::string& command, const std::string& dir) {
@@ -59,18 +74,25 @@ TwoRuns RunSerialAndParallel(const std::string& command, const std::string& dir)
     EXPECT_EQ(r.exit_code, 0) << r.output;
     if (r.exit_code != 0) return {};
     // The reproduction's own layout is the report's details.
-    const auto report = nlohmann::json::parse(Read(dir + "/" + folder + "/report.json"))["details"];
-    EXPECT_EQ(report["jobs"], jobs);
-    (jobs == 1 ? runs.serial : runs.parallel) = report;
+    const auto report = nlohmann::json::parse(Read(dir + "/" + folder + "/report.json"));
+    const nlohmann::json& details = report["details"];
+    EXPECT_EQ(details.contains("jobs") ? details["jobs"] : report["provenance"]["jobs"], jobs);
+    (jobs == 1 ? runs.serial : runs.parallel) = details;
+    (jobs == 1 ? runs.serial_report : runs.parallel_report) = report;
   }
   return runs;
 }
 
-// The two reports agree on everything but wall-clock fields, and the files agree byte for byte.
+// The two reports (tables, details, provenance) agree on everything but wall-clock
+// fields, and the files agree byte for byte.
 void ExpectSameResults(const TwoRuns& runs, const std::string& dir,
                        const std::vector<std::string>& files) {
-  const nlohmann::json difference =
-      nlohmann::json::diff(WithoutTimes(runs.serial), WithoutTimes(runs.parallel));
+  // The prose is report.md's, compared below where it holds no wall-clock numbers.
+  nlohmann::json serial = WithoutTimes(runs.serial_report);
+  nlohmann::json parallel = WithoutTimes(runs.parallel_report);
+  serial.erase("sections");
+  parallel.erase("sections");
+  const nlohmann::json difference = nlohmann::json::diff(serial, parallel);
   EXPECT_TRUE(difference.empty()) << difference.dump(1);
   // The report names its own folder where it says how to draw the figures (they are off in the
   // tests): the one difference allowed.

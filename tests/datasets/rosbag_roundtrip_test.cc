@@ -12,9 +12,9 @@
 #include <fstream>
 #include <iterator>
 #include <map>
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/errors.h"
+#include "core/image_codec.h"
 #include "datasets/io/rosbag/bag_records.h"
 #include "datasets/io/rosbag/ros_messages.h"
 #include "datasets/io/rosbag/rosbag_reader.h"
@@ -198,8 +198,7 @@ void WriteTestBag(const std::string& path, rosbag::compression::CompressionType 
       bag.write("/mono16", t, mono16);
 
       cv::Mat source(4, 6, CV_8UC1, cv::Scalar(77 + i));
-      std::vector<uint8_t> png;
-      cv::imencode(".png", source, png);
+      const std::string png = EncodePng(source);
       CompressedImageMsg compressed;
       compressed.header.stamp = t;
       compressed.format = Text<decltype(compressed.format)>("png");
@@ -381,7 +380,9 @@ TEST_P(RosbagRoundTrip, Images) {
       EXPECT_EQ(frames[i].image_path,
                 fs::absolute(out).string() + fmt::format("/{}.png", StampNs(i)));
     }
-    const cv::Mat image = cv::imread(frames[1].image_path, cv::IMREAD_UNCHANGED);
+    std::string why;
+    const cv::Mat image = DecodeImage(testing::ReadFileBytes(frames[1].image_path),
+                                      ImageDecodeMode::kUnchanged, &why);
     ASSERT_FALSE(image.empty()) << topic;
     const std::string name = topic;
     if (name == "/mono") {

@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/image_codec.h"
 #include "core/rotation.h"
 #include "datasets/rendering/stereo_room_renderer.h"
 #include "datasets/scenarios/scenario.h"
@@ -269,7 +269,9 @@ TEST(StereoObstaclesScenarioTest, RendersBothCameras) {
     ASSERT_EQ(camera->frames.size(), 6u);
     for (const CameraFrame& frame : camera->frames) {
       ASSERT_TRUE(std::filesystem::exists(frame.image_path)) << frame.image_path;
-      const cv::Mat image = cv::imread(frame.image_path, cv::IMREAD_UNCHANGED);
+      std::string why;
+      const cv::Mat image =
+          DecodeImage(testing::ReadFileBytes(frame.image_path), ImageDecodeMode::kUnchanged, &why);
       EXPECT_EQ(image.type(), CV_8UC1);
       EXPECT_EQ(image.size(), cv::Size(640, 480));
     }

@@ -2,12 +2,12 @@
 // projected tags0, determinism, and rendered pixels that show each tag's bitmap where the true
 // homography puts it (the detector's side of the check is tests/evaluation/apriltag_repro_test.cc).
 #include "datasets/scenarios/tag_arena.h"
+#include "core/image_codec.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/random.h"
 #include "core/rotation.h"
@@ -192,7 +192,9 @@ TEST(TagArena, RenderedImagesAreWrittenAsCam0) {
   ASSERT_EQ(back.cameras.size(), 1u);
   EXPECT_TRUE(back.cameras[0].missing_images.empty());
   ASSERT_EQ(back.cameras[0].frames.size(), 11u);
-  const cv::Mat image = cv::imread(back.cameras[0].frames[3].image_path, cv::IMREAD_GRAYSCALE);
+  std::string why;
+  const cv::Mat image = DecodeImage(testing::ReadFileBytes(back.cameras[0].frames[3].image_path),
+                                    ImageDecodeMode::kGray8, &why);
   EXPECT_EQ(image.cols, 752);
   EXPECT_EQ(image.rows, 480);
   EXPECT_EQ(back.map.tags.size(), 21u);

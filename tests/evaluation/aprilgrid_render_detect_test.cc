@@ -10,11 +10,11 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <opencv2/imgcodecs.hpp>
 #include <set>
 #include <sstream>
 
 #include "core/aprilgrid.h"
+#include "core/image_codec.h"
 #include "core/rotation.h"
 #include "datasets/io/euroc_io.h"
 #include "datasets/rendering/aprilgrid_renderer.h"
@@ -200,7 +200,7 @@ TEST(AprilgridCli, DetectTagsWritesTags0AndTags1AndReadsOneImage) {
   const std::string rendered = dir + "/rendered.png";
   const double half = 0.5 * (target.tag_cols * target.PitchM() - target.tag_spacing * 0.088);
   const Pose T_C_M = BoardInCamera(Rx(0.2), Eigen::Vector3d(half, half, 0), {0.0, 0.0, 1.1});
-  ASSERT_TRUE(cv::imwrite(rendered, RenderAprilgrid(cam0.model, target, T_C_M)));
+  testing::WriteFileBytes(rendered, EncodePng(RenderAprilgrid(cam0.model, target, T_C_M)));
   cam0.frames = {{t0, real0}, {t1, rendered}};
   cam1.frames = {{t0, real1}};
   d.cameras = {cam0, cam1};

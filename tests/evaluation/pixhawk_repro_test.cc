@@ -134,7 +134,7 @@ TEST(PixhawkReproTest, ShortRunWritesAllFourTables) {
   options.seed = 3;
   options.report_dir = dir;
   options.settings = {{"duration_s", "9"}};
-  ASSERT_EQ(RunPixhawkRepro(options), 0);
+  ASSERT_EQ(RunRepro(PixhawkRepro(), options), 0);
   std::ifstream in(dir + "/report.json");
   ASSERT_TRUE(in.good());
   const nlohmann::json report = nlohmann::json::parse(in)["details"];  // the repro's own layout
@@ -159,9 +159,9 @@ TEST(PixhawkReproTest, BadSettingsThrowInputError) {
   options.runs = 1;
   options.report_dir = testing::MakeTempDir();
   options.settings = {{"tables", "fig99"}};
-  EXPECT_THROW(RunPixhawkRepro(options), InputError);
+  EXPECT_THROW(RunRepro(PixhawkRepro(), options), InputError);
   options.settings = {{"image_stamping", "never"}};
-  EXPECT_THROW(RunPixhawkRepro(options), InputError);
+  EXPECT_THROW(RunRepro(PixhawkRepro(), options), InputError);
 }
 
 }  // namespace

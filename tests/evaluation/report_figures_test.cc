@@ -13,8 +13,9 @@
 #include <sstream>
 
 #include <algorithm>
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
+#include "core/image_codec.h"
 #include "evaluation/report_html.h"
 #include "tests/test_support.h"
 
@@ -87,8 +88,12 @@ void ExpectPng(const std::string& path) {
   const std::string bytes = ReadAll(path);
   ASSERT_GT(bytes.size(), 8u) << path;
   EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << path;
-  const cv::Mat image = cv::imread(path, cv::IMREAD_COLOR);
-  ASSERT_FALSE(image.empty()) << path << ": does not decode";
+  std::string why;
+  cv::Mat image = DecodeImage(bytes, ImageDecodeMode::kUnchanged, &why);
+  ASSERT_FALSE(image.empty()) << path << ": does not decode: " << why;
+  ASSERT_EQ(image.depth(), CV_8U) << path;
+  if (image.channels() == 4) cv::cvtColor(image, image, cv::COLOR_BGRA2BGR);
+  if (image.channels() == 1) cv::cvtColor(image, image, cv::COLOR_GRAY2BGR);
   EXPECT_GE(image.cols, 400) << path;
   EXPECT_GE(image.rows, 300) << path;
   int colored = 0;

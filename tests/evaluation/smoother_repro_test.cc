@@ -31,9 +31,10 @@ TEST(SmootherReproCli, SmallEndToEndRun) {
   ASSERT_EQ(result.exit_code, 0) << result.output;
   std::ifstream in(dir + "/report.json");
   ASSERT_TRUE(in.good());
-  const nlohmann::json json = nlohmann::json::parse(in)["details"];  // the repro's own layout
-  EXPECT_EQ(json["runs"], 2);
-  EXPECT_EQ(json["first_seed"], 3);
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["provenance"]["runs"], 2);
+  EXPECT_EQ(report["provenance"]["seeds"], nlohmann::json({3, 4}));
+  const nlohmann::json& json = report["details"];  // the repro's own layout
   const auto& tables = json["tables"];
   ASSERT_EQ(tables.size(), 6u);
   EXPECT_FALSE(tables.contains("euroc-laser"));  // not asked for

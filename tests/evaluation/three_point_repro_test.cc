@@ -125,7 +125,7 @@ TEST(ThreePointRepro, SmallRunWritesBothTablesWithThePapersValues) {
   options.seed = 11;
   options.report_dir = dir;
   options.settings = {{"noise_levels_deg", "0.01,1"}, {"heights_m", "0.4"}};
-  ASSERT_EQ(RunThreePointRepro(options), 0);
+  ASSERT_EQ(RunRepro(ThreePointRepro(), options), 0);
   const nlohmann::json j = ReadJson(dir + "/report.json");
   const auto& t1 = j.at("tables").at("table1").at("estimators");
   EXPECT_DOUBLE_EQ(t1.at("two-point").at("quantities").at("x").at("paper").get<double>(), 4.08);
@@ -155,9 +155,9 @@ TEST(ThreePointRepro, BadSettingsAreInputErrors) {
   options.runs = 1;
   options.report_dir = testing::MakeTempDir();
   options.settings = {{"noise_levels_deg", "0.1,abc"}};
-  EXPECT_THROW(RunThreePointRepro(options), InputError);
+  EXPECT_THROW(RunRepro(ThreePointRepro(), options), InputError);
   options.settings = {{"no_such_key", "1"}};
-  EXPECT_THROW(RunThreePointRepro(options), InputError);
+  EXPECT_THROW(RunRepro(ThreePointRepro(), options), InputError);
 }
 
 TEST(ThreePointRepro, CommandLine) {

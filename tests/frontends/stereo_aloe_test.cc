@@ -5,9 +5,10 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/image_codec.h"
+#include "frontends/image_io.h"
 #include "frontends/stereo/disparity.h"
 #include "tests/test_support.h"
 
@@ -79,9 +80,11 @@ class StereoAloeTest : public ::testing::Test {
     if (!std::filesystem::exists(dir_ + "/aloeGT.png")) {
       GTEST_SKIP() << "shared data not found: " << dir_ << " (../shared/data is absent)";
     }
-    left_ = cv::imread(dir_ + "/aloeL.jpg", cv::IMREAD_GRAYSCALE);
-    right_ = cv::imread(dir_ + "/aloeR.jpg", cv::IMREAD_GRAYSCALE);
-    gt_ = cv::imread(dir_ + "/aloeGT.png", cv::IMREAD_UNCHANGED);
+    left_ = LoadGrayImage(dir_ + "/aloeL.jpg");
+    right_ = LoadGrayImage(dir_ + "/aloeR.jpg");
+    std::string why;
+    gt_ = DecodeImage(testing::ReadFileBytes(dir_ + "/aloeGT.png"), ImageDecodeMode::kUnchanged,
+                      &why);
     ASSERT_FALSE(left_.empty());
     ASSERT_FALSE(right_.empty());
     ASSERT_EQ(gt_.type(), CV_8UC1);

@@ -5,12 +5,11 @@
 
 #include <filesystem>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
-#include "core/image_check.h"
+#include "core/image_codec.h"
 #include "datasets/io/rosbag/opened_bag.h"
 #include "datasets/io/rosbag/ros_messages.h"
 #include "datasets/io/rosbag/rosbag_reader.h"
@@ -92,12 +91,9 @@ std::vector<CameraFrame> ExportRosbagImages(const std::string& path, const std::
     if (compressed) {
       const auto msg = ros1::Instantiate<ros1::CompressedImageMsg>(bag, topic, index, message);
       t_ns = ros1::ToNs(msg->header.stamp);
-      const cv::Mat bytes(1, static_cast<int>(msg->data.size()), CV_8UC1,
-                          const_cast<uint8_t*>(msg->data.data()));
-      // A damaged PNG or JPEG is refused before OpenCV hands it to libpng / libjpeg, which would
-      // print their own line (core/image_check.h).
-      const std::string damage = ImageDamage(std::string(msg->data.begin(), msg->data.end()));
-      if (damage.empty() && !msg->data.empty()) image = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+      std::string damage;
+      image = DecodeImage(std::string(msg->data.begin(), msg->data.end()),
+                          ImageDecodeMode::kUnchanged, &damage);
       if (image.empty()) {
         bag.Fail(
             topic, index,
@@ -116,10 +112,8 @@ std::vector<CameraFrame> ExportRosbagImages(const std::string& path, const std::
                fmt::format("header.stamp {} ns does not increase (previous {} ns)", t_ns,
                            frames.back().t_ns));
     }
-    std::vector<uint8_t> png;
-    if (!cv::imencode(".png", image, png)) bag.Fail(topic, index, "cannot encode the PNG");
     const std::string file = (folder / fmt::format("{}.png", t_ns)).string();
-    WriteFileAtomically(file, std::string(png.begin(), png.end()));
+    WriteFileAtomically(file, EncodePng(image));
     frames.push_back({t_ns, file});
   });
   return frames;
