@@ -7,22 +7,12 @@
 
 #include "core/errors.h"
 #include "core/progress.h"
+#include "evaluation/report/csv_field.h"
 #include "evaluation/report/report_folder.h"
 #include "evaluation/sweep/sweep_grid.h"
 #include "evaluation/sweep/sweep_runner.h"
 
 namespace mavloc {
-
-namespace {
-
-std::string ReproCsvCell(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
-  std::string quoted = "\"";
-  for (const char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return quoted + "\"";
-}
-
-}  // namespace
 
 ReportTable ReproTable(const std::string& name, const std::string& title,
                        const std::vector<std::string>& columns) {
@@ -43,7 +33,7 @@ std::string ReproTableCsv(const ReportTable& table) {
   for (size_t k = 0; k < table.columns.size(); ++k) {
     const auto& column = table.columns[k];
     csv += (k ? "," : "") +
-           ReproCsvCell(column.unit.empty() ? column.name : column.name + " [" + column.unit + "]");
+           CsvField(column.unit.empty() ? column.name : column.name + " [" + column.unit + "]");
   }
   csv += "\n";
   for (const auto& row : table.rows) {
@@ -51,7 +41,7 @@ std::string ReproTableCsv(const ReportTable& table) {
       const nlohmann::json& cell = row[k];
       std::string text;
       if (cell.is_string())
-        text = ReproCsvCell(cell.get<std::string>());
+        text = CsvField(cell.get<std::string>());
       else if (cell.is_number_float())
         text = std::isfinite(cell.get<double>()) ? fmt::format("{}", cell.get<double>()) : "";
       else if (!cell.is_null())

@@ -9,6 +9,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "evaluation/report/csv_field.h"
 #include "evaluation/report/provenance.h"
 #include "evaluation/report/report_folder.h"
 #include "evaluation/report/report_markdown.h"
@@ -52,13 +53,6 @@ Statistics Summarize(std::vector<double> values) {
 }
 
 std::string Number(double value) { return fmt::format("{:.6g}", value); }
-
-std::string CsvField(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
-  std::string quoted = "\"";
-  for (const char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return quoted + "\"";
-}
 
 }  // namespace
 
