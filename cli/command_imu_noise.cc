@@ -4,7 +4,9 @@
 // with EuRoC's columns, a ROS1 bag or a PX4 ULog file (format from the file's first bytes,
 // datasets/io/log_reader.h). Writes DIR/imu.yaml (Kalibr's keys), DIR/allan_deviation.csv and
 // the report (report.md, report.json) into a staged folder (cli/output_folder.h) and prints the
-// table. docs/commands/imu-noise.md.
+// table. The log is streamed twice (evaluation/imu_noise/allan_streaming.h: the sampling check and
+// the means, then the curves), never held: memory is bounded by --max-tau, not by the log's
+// length. docs/commands/imu-noise.md.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -20,8 +22,8 @@
 #include "core/progress.h"
 #include "datasets/io/euroc_io.h"
 #include "datasets/io/log_reader.h"
-#include "datasets/io/ulog/ulog_reader.h"
 #include "evaluation/imu_noise/allan_deviation.h"
+#include "evaluation/imu_noise/allan_streaming.h"
 #include "evaluation/imu_noise/imu_noise_report.h"
 #include "evaluation/imu_noise/noise_fit.h"
 #include "evaluation/report/report_folder.h"
@@ -36,11 +38,16 @@ struct ImuNoiseArgs {
   std::string input, topic, out;
   double from_s = 0.0;  // seconds since the first IMU sample
   double to_s = std::numeric_limits<double>::infinity();
+  double max_tau_s = kImuNoiseDefaultMaxTau_s;
   bool force = false;
 };
 
+using ImuVisitor = std::function<void(const ImuSample&)>;
+
 struct ImuNoiseInput {
-  std::vector<ImuSample> samples;
+  // One pass over the input's IMU samples, in file order; `notes` (when not null) gets what the
+  // ULog reader dropped.
+  std::function<void(const ImuVisitor& visit, std::vector<std::string>* notes)> read;
   std::string source;              // what was read, for messages and imu.yaml
   std::string rostopic;            // imu.yaml's rostopic: the bag topic, else /imu0
   std::vector<std::string> notes;  // what the ULog reader dropped
@@ -68,7 +75,7 @@ std::string ImuNoiseDefaultTopic(const std::string& log, LogFormat format) {
                        : "choose the IMU topic with --topic (candidates: " + listed + ")");
 }
 
-ImuNoiseInput ReadImuNoiseInput(const ImuNoiseArgs& args) {
+ImuNoiseInput OpenImuNoiseInput(const ImuNoiseArgs& args) {
   ImuNoiseInput input;
   input.rostopic = "/imu0";
   const auto no_topic = [&](const char* what) {
@@ -85,7 +92,9 @@ ImuNoiseInput ReadImuNoiseInput(const ImuNoiseArgs& args) {
                        "is a folder without mav0/imu0/data.csv (an ASL/EuRoC dataset folder, a "
                        "ROS1 bag, a PX4 ULog file or an IMU CSV is expected)");
     input.source = csv.string();
-    input.samples = ReadImuCsv(input.source);
+    input.read = [path = input.source](const ImuVisitor& visit, std::vector<std::string>*) {
+      ForEachImuCsvSample(path, visit);
+    };
     return input;
   }
   if (!fs::exists(args.input)) throw InputError(args.input, 0, "", "does not exist");
@@ -93,42 +102,46 @@ ImuNoiseInput ReadImuNoiseInput(const ImuNoiseArgs& args) {
   if (!format) {  // an IMU CSV (EuRoC imu0 columns; yac/Kalibr "#ts,wx,...")
     no_topic("an IMU CSV file");
     input.source = args.input;
-    input.samples = ReadImuCsv(args.input);
+    input.read = [path = args.input](const ImuVisitor& visit, std::vector<std::string>*) {
+      ForEachImuCsvSample(path, visit);
+    };
     return input;
   }
   const std::string topic =
       args.topic.empty() ? ImuNoiseDefaultTopic(args.input, *format) : args.topic;
   input.source = args.input + ":" + topic;
-  ReportProgress("imu-noise", "reading " + input.source);
-  if (*format == LogFormat::kRosbag) {
-    input.rostopic = topic;
-    input.samples = ReadLogImu(args.input, topic);
-    return input;
-  }
-  // "vehicle_imu:1" (the LOG:TOPIC:INSTANCE form) is the ULog reader's "vehicle_imu.1".
-  std::string ulog_topic = topic;
-  if (const size_t colon = ulog_topic.rfind(':'); colon != std::string::npos)
-    ulog_topic[colon] = '.';
-  input.samples = ReadUlogImu(args.input, ulog_topic, {}, &input.notes);
+  if (*format == LogFormat::kRosbag) input.rostopic = topic;
+  input.read = [path = args.input, topic](const ImuVisitor& visit,
+                                          std::vector<std::string>* notes) {
+    ForEachLogImuSample(path, topic, visit, notes);
+  };
   return input;
 }
 
-// Keeps the samples within [from_s, to_s] seconds of the first one (in place: a log of 1e7
-// samples is 560 MB of ImuSample).
-void KeepImuNoiseWindow(const ImuNoiseArgs& args, ImuNoiseInput* input) {
-  std::vector<ImuSample>& samples = input->samples;
-  if (samples.empty()) throw InputError(input->source, 0, "", "holds no IMU samples");
-  const TimeNs t0_ns = samples.front().t_ns;
-  const double length_s = NsToSeconds(samples.back().t_ns - t0_ns);
-  const auto outside = [&](const ImuSample& s) {
-    const double t_s = NsToSeconds(s.t_ns - t0_ns);
-    return t_s < args.from_s || t_s > args.to_s;
+// What a pass over the input saw: all samples, and those within [from_s, to_s] seconds of the
+// first one.
+struct ImuNoiseWindow {
+  size_t samples = 0, kept = 0;
+  TimeNs first_ns = 0, last_ns = 0;
+};
+
+// The samples of the --from/--to window, one pass per call; *window describes the last pass and
+// input->notes gets its notes.
+ImuSamplePass WindowedPass(const ImuNoiseArgs& args, ImuNoiseInput* input, ImuNoiseWindow* window) {
+  return [&args, input, window](const ImuVisitor& visit) {
+    *window = {};
+    input->notes.clear();
+    input->read(
+        [&](const ImuSample& s) {
+          if (window->samples++ == 0) window->first_ns = s.t_ns;
+          window->last_ns = s.t_ns;
+          const double t_s = NsToSeconds(s.t_ns - window->first_ns);
+          if (t_s < args.from_s || t_s > args.to_s) return;
+          ++window->kept;
+          visit(s);
+        },
+        &input->notes);
   };
-  samples.erase(std::remove_if(samples.begin(), samples.end(), outside), samples.end());
-  if (samples.empty())
-    throw InputError(input->source, 0, "--from/--to",
-                     fmt::format("no sample between {} s and {} s (the stream is {:.3f} s long)",
-                                 args.from_s, args.to_s, length_s));
 }
 
 // The --from/--to window in words, for the report.
@@ -146,12 +159,32 @@ void RunImuNoise(const ImuNoiseArgs& args) {
         fmt::format("--from {}: must be >= 0 (seconds after the first sample)", args.from_s));
   if (!(args.from_s < args.to_s))
     throw InputError(fmt::format("--from {} is not before --to {}", args.from_s, args.to_s));
+  if (!(args.max_tau_s > 0.0))
+    throw InputError(fmt::format("--max-tau {}: must be > 0 (seconds)", args.max_tau_s));
   // The output folder is checked before any work and written whole (cli/output_folder.h).
   StagedFolder out(args.out, FolderKind::kReport, args.force);
-  ImuNoiseInput input = ReadImuNoiseInput(args);
-  KeepImuNoiseWindow(args, &input);
-  ReportProgress("imu-noise", fmt::format("Allan deviation of {} samples", input.samples.size()));
-  const ImuAllanDeviation curves = ComputeImuAllanDeviation(input.samples);
+  ImuNoiseInput input = OpenImuNoiseInput(args);
+  ImuNoiseWindow window;
+  int pass = 0;
+  const ImuSamplePass windowed = WindowedPass(args, &input, &window);
+  AllanOptions options;
+  options.max_tau_s = args.max_tau_s;
+  const ImuAllanDeviation curves = ComputeImuAllanDeviationStreaming(
+      [&](const ImuVisitor& visit) {
+        ReportProgress("imu-noise", ++pass == 1 ? "reading " + input.source +
+                                                      " (pass 1 of 2: sampling check and means)"
+                                                : fmt::format("pass 2 of 2: Allan deviation of "
+                                                              "{} samples",
+                                                              window.kept));
+        windowed(visit);
+      },
+      options);
+  if (window.samples == 0) throw InputError(input.source, 0, "", "holds no IMU samples");
+  if (window.kept == 0)
+    throw InputError(
+        input.source, 0, "--from/--to",
+        fmt::format("no sample between {} s and {} s (the stream is {:.3f} s long)", args.from_s,
+                    args.to_s, NsToSeconds(window.last_ns - window.first_ns)));
   if (!curves.sampling.ok)
     throw InputError(
         input.source, 0, "",
@@ -162,6 +195,12 @@ void RunImuNoise(const ImuNoiseArgs& args) {
        {std::pair{&curves.gyro, "gyroscope"}, std::pair{&curves.accel, "accelerometer"}}) {
     for (int axis = 0; axis < 3; ++axis) {
       const auto& points = (*sensor)[axis].points;
+      if (points.size() < 2)
+        throw InputError(
+            input.source, 0, "--max-tau",
+            fmt::format("{} s leaves {} cluster size(s) at {:.3f} Hz: the curve needs at least two "
+                        "(raise --max-tau)",
+                        args.max_tau_s, points.size(), curves.sampling.rate_hz));
       if (std::none_of(points.begin(), points.end(),
                        [](const AllanPoint& p) { return p.adev > 0.0; }))
         throw InputError(input.source, 0, fmt::format("{} {}", name, "xyz"[axis]),
@@ -212,6 +251,12 @@ void RegisterImuNoise(CLI::App& app, int* exit_code) {
   command->add_option("--from", args->from_s, "Use samples from this many seconds after the first")
       ->check(FiniteNumber());
   command->add_option("--to", args->to_s, "Use samples up to this many seconds after the first")
+      ->check(FiniteNumber());
+  command
+      ->add_option("--max-tau", args->max_tau_s,
+                   fmt::format("Longest cluster time [s] (default {:g}; also at most a quarter of "
+                               "the log): memory is about 96 bytes x rate x this",
+                               kImuNoiseDefaultMaxTau_s))
       ->check(FiniteNumber());
   command->add_flag("--force", args->force, "Replace an existing --out folder (a mavloc report)");
   command->callback([args, exit_code] {

@@ -832,28 +832,45 @@ void RequireImuColumnOrder(const TextTable& table) {
   }
 }
 
-std::vector<ImuSample> ReadImuCsv(const std::string& path) {
-  const TextTable table = ReadTextTable(path, Separator::kComma);
-  RequireImuColumnOrder(table);
-  std::vector<long> lines;
-  const std::vector<TimeNs> t = Stamps(table, &lines);
-  table.RequireIncreasing(t, lines);
-  std::vector<ImuSample> samples;
-  samples.reserve(table.rows.size());
-  for (size_t i = 0; i < table.rows.size(); ++i) {
-    const TextRow& row = table.rows[i];
-    table.RequireFields(row, 7);
-    if (row.fields.size() > 7)
-      throw InputError(path, row.line, table.FieldName(7),
+void ForEachImuCsvSample(const std::string& path,
+                         const std::function<void(const ImuSample&)>& visit) {
+  TextRowReader reader(path, Separator::kComma);
+  TextTable columns;  // the header and path, for RequireImuColumnOrder and the messages
+  columns.path = path;
+  const auto within = [&](const TextRowView& row, size_t k, double max_abs, const char* unit) {
+    return columns.NumberInText(row.fields[k], row.line, k, -max_abs, max_abs, unit);
+  };
+  ImuSample s;
+  bool first = true;
+  while (const TextRowView* row = reader.Next()) {
+    if (first) {
+      columns.header = reader.header();
+      RequireImuColumnOrder(columns);
+    }
+    const TimeNs t_ns = columns.TimestampNsText(row->fields[0], row->line, 0);
+    if (!first) columns.RequireAfter(s.t_ns, t_ns, row->line);
+    first = false;
+    columns.RequireFieldCount(row->fields.size(), row->line, 7);
+    if (row->fields.size() > 7)
+      throw InputError(path, row->line, columns.FieldName(7),
                        fmt::format("row has {} fields; an IMU row has 7 (timestamp, gyroscope x y "
                                    "z, accelerometer x y z)",
-                                   row.fields.size()));
-    ImuSample s;
-    s.t_ns = t[i];
-    s.gyro_rad_s = Vector3In(table, row, 1, limits::kMaxAngularRate_rad_s, "rad/s");
-    s.accel_m_s2 = Vector3In(table, row, 4, limits::kMaxSpecificForce_m_s2, "m/s^2");
-    samples.push_back(s);
+                                   row->fields.size()));
+    s.t_ns = t_ns;
+    for (int i = 0; i < 3; ++i) {
+      s.gyro_rad_s[i] = within(*row, 1 + i, limits::kMaxAngularRate_rad_s, "rad/s");
+    }
+    for (int i = 0; i < 3; ++i) {
+      s.accel_m_s2[i] = within(*row, 4 + i, limits::kMaxSpecificForce_m_s2, "m/s^2");
+    }
+    visit(s);
   }
+  if (first) throw InputError(path, 0, "", "file has no data rows");
+}
+
+std::vector<ImuSample> ReadImuCsv(const std::string& path) {
+  std::vector<ImuSample> samples;
+  ForEachImuCsvSample(path, [&samples](const ImuSample& s) { samples.push_back(s); });
   return samples;
 }
 

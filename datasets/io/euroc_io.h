@@ -5,6 +5,7 @@
 // map.yaml's optional `frame: world|board` is WorldMap::frame (absent = world).
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -38,6 +39,13 @@ void WriteEurocDatasetAtomically(const Dataset& dataset, const std::string& root
 // An IMU CSV with EuRoC imu0's columns: timestamp [ns], w_x, w_y, w_z [rad/s], a_x, a_y, a_z
 // [m/s^2] (yac/Kalibr logs: "#ts,wx,wy,wz,ax,ay,az"). Strictly increasing stamps.
 std::vector<ImuSample> ReadImuCsv(const std::string& path);
+
+// The streaming form of ReadImuCsv: `visit` gets each sample as its row is parsed (block reads,
+// std::from_chars; memory does not grow with the file). Bad input throws the InputError
+// ReadImuCsv throws (file, line, field), at the first bad row: the samples before it have been
+// visited by then.
+void ForEachImuCsvSample(const std::string& path,
+                         const std::function<void(const ImuSample&)>& visit);
 
 // The text of the tags0 stream ("#timestamp [ns],tag_id,u0 [px],v0 [px],...,v3 [px]"), as
 // WriteEurocDataset writes it; `mavloc detect-tags` writes its detections with it too.

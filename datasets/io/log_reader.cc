@@ -113,14 +113,22 @@ LogSummary SummarizeLog(const std::string& path) {
 }
 
 std::vector<ImuSample> ReadLogImu(const std::string& path, const std::string& topic) {
+  std::vector<ImuSample> samples;
+  ForEachLogImuSample(path, topic, [&samples](const ImuSample& s) { samples.push_back(s); });
+  return samples;
+}
+
+void ForEachLogImuSample(const std::string& path, const std::string& topic,
+                         const std::function<void(const ImuSample&)>& visit,
+                         std::vector<std::string>* notes) {
   const auto format = DetectLogFormat(path);
   if (!format) throw InputError(path, 0, "", "not a ROS1 bag or PX4 ULog file");
-  if (*format == LogFormat::kRosbag) return ReadRosbagImu(path, topic);
+  if (*format == LogFormat::kRosbag) return ForEachRosbagImuSample(path, topic, visit);
   // "vehicle_imu:1" (the LOG:TOPIC:INSTANCE form) is the ULog reader's "vehicle_imu.1".
   std::string ulog_topic = topic;
   if (const size_t colon = ulog_topic.rfind(':'); colon != std::string::npos)
     ulog_topic[colon] = '.';
-  return ReadUlogImu(path, ulog_topic, UlogProgressLine(path));
+  ForEachUlogImuSample(path, ulog_topic, visit, UlogProgressLine(path), notes);
 }
 
 LogTrajectory ReadLogTrajectory(const LogTopicSpec& spec) {

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -85,6 +86,18 @@ std::optional<LogFormat> DetectLogFormat(const std::string& path);
 // topic, an unsupported type or a truncated/corrupt log.
 LogSummary SummarizeLog(const std::string& path);
 std::vector<ImuSample> ReadLogImu(const std::string& path, const std::string& topic);
+
+// The streaming form of ReadLogImu: `visit` gets each sample as it is read, nothing is kept
+// (memory does not grow with the log); the same checks and InputErrors, thrown at the first bad
+// message (the samples before it have been visited by then). For ULog, `notes` (when not null)
+// gets what the reader dropped, as ReadUlogImu's notes.
+void ForEachLogImuSample(const std::string& path, const std::string& topic,
+                         const std::function<void(const ImuSample&)>& visit,
+                         std::vector<std::string>* notes = nullptr);
+// Its ROS1 bag part (datasets/io/rosbag/rosbag_imu.cc; ReadRosbagImu of rosbag_reader.h collects
+// it).
+void ForEachRosbagImuSample(const std::string& path, const std::string& topic,
+                            const std::function<void(const ImuSample&)>& visit);
 LogTrajectory ReadLogTrajectory(const LogTopicSpec& spec);
 
 }  // namespace mavloc

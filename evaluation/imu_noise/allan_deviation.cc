@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/imu_gaps.h"
+#include "evaluation/imu_noise/allan_streaming.h"
 
 namespace mavloc {
 namespace {
@@ -40,17 +41,6 @@ double AllanRegularizedGammaP(double a, double x) {
     if (std::abs(delta - 1.0) < 1e-16) break;
   }
   return std::max(0.0, 1.0 - std::exp(log_prefactor) * h);
-}
-
-// The log-spaced cluster sizes 1 <= m <= max_m.
-std::vector<long> AllanClusterSizes(double max_m, double per_decade) {
-  std::vector<long> sizes;
-  for (int j = 0;; ++j) {
-    const long m = std::lround(std::pow(10.0, j / per_decade));
-    if (static_cast<double>(m) > max_m) break;
-    if (sizes.empty() || m > sizes.back()) sizes.push_back(m);
-  }
-  return sizes;
 }
 
 // White PM is never chosen from the slope: at long tau the slope of a white-FM curve wanders below
@@ -120,6 +110,26 @@ double AllanEquivalentDof(AllanNoiseType noise, double phase_points, double clus
   return std::max(1.0, edf);
 }
 
+std::vector<long> AllanClusterSizes(size_t samples, double sample_period_s,
+                                    const AllanOptions& options, bool* cut) {
+  const double max_m = options.max_cluster_fraction * static_cast<double>(samples);
+  // m tau0 <= max_tau_s, with a margin for the rounding of the division (1000 s / 0.005 s).
+  const double max_tau_m = options.max_tau_s / sample_period_s * (1.0 + 1e-9);
+  std::vector<long> sizes;
+  bool tau_cut = false;
+  for (int j = 0;; ++j) {
+    const long m = std::lround(std::pow(10.0, j / options.clusters_per_decade));
+    if (static_cast<double>(m) > max_m) break;
+    if (static_cast<double>(m) > max_tau_m) {
+      tau_cut = true;
+      break;
+    }
+    if (sizes.empty() || m > sizes.back()) sizes.push_back(m);
+  }
+  if (cut != nullptr) *cut = tau_cut;
+  return sizes;
+}
+
 double AllanLocalSlope(const std::vector<AllanPoint>& points, size_t i, double half_width_decades) {
   if (points.size() < 2 || i >= points.size()) return 0.0;
   const double center = std::log10(points[i].tau_s);
@@ -158,6 +168,7 @@ AllanCurve OverlappingAllanDeviation(const std::vector<double>& samples, double 
   AllanCurve curve;
   curve.sample_period_s = sample_period_s;
   curve.samples = samples.size();
+  curve.max_tau_s = options.max_tau_s;
   if (samples.size() < kMinAllanSamples || !(sample_period_s > 0.0)) return curve;
   const size_t n = samples.size();
   // Phase in sample units: S_k = sum_{i<k} (y_i - mean), k = 0..n. The mean does not change the
@@ -168,8 +179,7 @@ AllanCurve OverlappingAllanDeviation(const std::vector<double>& samples, double 
   std::vector<double> phase(n + 1, 0.0);
   for (size_t k = 0; k < n; ++k) phase[k + 1] = phase[k] + (samples[k] - mean);
 
-  for (const long m :
-       AllanClusterSizes(options.max_cluster_fraction * n, options.clusters_per_decade)) {
+  for (const long m : AllanClusterSizes(n, sample_period_s, options, &curve.cut_at_max_tau)) {
     // sigma^2(m tau0) = 1/(2 (N - 2m)) sum_k ((S_{k+2m} - 2 S_{k+m} + S_k) / m)^2 over the
     // N - 2m = n + 1 - 2m start samples k (the phase form of the overlapping
     // Allan variance in NIST SP 1065, with x = tau0 S).
@@ -186,56 +196,133 @@ AllanCurve OverlappingAllanDeviation(const std::vector<double>& samples, double 
     point.adev = std::sqrt(sum / (2.0 * static_cast<double>(terms))) / static_cast<double>(m);
     curve.points.push_back(point);
   }
+  SetAllanConfidence(&curve, options);
+  return curve;
+}
+
+void SetAllanConfidence(AllanCurve* curve, const AllanOptions& options) {
   // The confidence intervals need the noise type, identified from the local slope (a constant
   // series has adev 0 everywhere: no slope, no interval).
-  const double phase_points = static_cast<double>(n + 1);
+  const double phase_points = static_cast<double>(curve->samples + 1);
   const double tail = 0.5 * (1.0 - options.confidence);
-  for (size_t i = 0; i < curve.points.size(); ++i) {
-    AllanPoint& p = curve.points[i];
+  for (size_t i = 0; i < curve->points.size(); ++i) {
+    AllanPoint& p = curve->points[i];
     if (!(p.adev > 0.0)) continue;
-    p.slope = AllanLocalSlope(curve.points, i);
+    p.slope = AllanLocalSlope(curve->points, i);
     p.noise = AllanNoiseFromSlope(p.slope);
     p.edf = AllanEquivalentDof(p.noise, phase_points, static_cast<double>(p.cluster_size));
     p.adev_low = p.adev * std::sqrt(p.edf / ChiSquareQuantile(1.0 - tail, p.edf));
     p.adev_high = p.adev * std::sqrt(p.edf / ChiSquareQuantile(tail, p.edf));
   }
-  return curve;
 }
 
 UniformSampling CheckUniformSampling(const std::vector<ImuSample>& samples) {
+  UniformSamplingCheck check;
+  for (const ImuSample& s : samples) check.Add(s.t_ns);
+  return check.Finish();
+}
+
+void UniformSamplingCheck::Add(TimeNs t_ns) {
+  const size_t index = samples_++;
+  if (index == 0) {
+    first_ns_ = last_ns_ = t_ns;
+    return;
+  }
+  if (!not_increasing_.empty()) return;  // the verdict is known
+  if (t_ns <= last_ns_) {
+    not_increasing_ = fmt::format(
+        "sample {} (t = {} ns) does not come after the one before ({} ns)", index, t_ns, last_ns_);
+    return;
+  }
+  AddInterval(t_ns - last_ns_, last_ns_, t_ns);
+  last_ns_ = t_ns;
+}
+
+void UniformSamplingCheck::AddInterval(TimeNs interval_ns, TimeNs from_ns, TimeNs to_ns) {
+  // A gap is longer than kImuGapMinSeconds (and 10 median intervals, FindImuGaps): only those
+  // intervals are kept exactly, and the ones among them that exceed every interval before.
+  const bool longest_yet = interval_ns > longest_ns_;
+  longest_ns_ = std::max(longest_ns_, interval_ns);
+  if (static_cast<double>(interval_ns) > kImuGapMinSeconds * 1e9) {
+    ++long_intervals_[interval_ns];
+    if (longest_yet) records_.push_back({from_ns, to_ns});
+    return;
+  }
+  const TimeNs bin = interval_ns >> shift_;
+  if (bin == last_bin_) {  // most intervals repeat the one before
+    ++*last_count_;
+    return;
+  }
+  last_count_ = &short_bins_[bin];  // pointers to elements survive rehashing
+  last_bin_ = bin;
+  ++*last_count_;
+  if (short_bins_.size() <= kMaxExactIntervals) return;
+  // Too many distinct intervals (stamps with nanosecond jitter): halve the resolution until the
+  // histogram is small again.
+  while (short_bins_.size() > kMaxExactIntervals / 2) {
+    ++shift_;
+    std::unordered_map<TimeNs, uint64_t> wider;
+    for (const auto& [key, count] : short_bins_) wider[key >> 1] += count;
+    short_bins_.swap(wider);
+  }
+  last_bin_ = -1;
+  last_count_ = nullptr;
+}
+
+UniformSampling UniformSamplingCheck::Finish() const {
   UniformSampling s;
-  s.samples = samples.size();
-  if (samples.size() < kMinAllanSamples) {
+  s.samples = samples_;
+  if (samples_ < kMinAllanSamples) {
     s.reason = fmt::format(
         "{} samples: Allan deviation needs at least {} (and a static log of minutes to hours to "
         "show more than the white noise)",
-        samples.size(), kMinAllanSamples);
+        samples_, kMinAllanSamples);
     return s;
   }
-  for (size_t i = 1; i < samples.size(); ++i) {
-    if (samples[i].t_ns <= samples[i - 1].t_ns) {
-      s.reason = fmt::format("sample {} (t = {} ns) does not come after the one before ({} ns)", i,
-                             samples[i].t_ns, samples[i - 1].t_ns);
-      return s;
-    }
+  if (!not_increasing_.empty()) {
+    s.reason = not_increasing_;
+    return s;
   }
-  std::vector<TimeNs> intervals;
-  intervals.reserve(samples.size() - 1);
-  for (size_t i = 1; i < samples.size(); ++i)
-    intervals.push_back(samples[i].t_ns - samples[i - 1].t_ns);
-  std::nth_element(intervals.begin(), intervals.begin() + static_cast<long>(intervals.size() / 2),
-                   intervals.end());
-  const double median_ns = static_cast<double>(intervals[intervals.size() / 2]);
+  // The median interval: the one of rank (n - 1) / 2 among the n - 1 sorted intervals (as
+  // std::nth_element picks it); the short bins (at their middle when widened) come first, each
+  // shorter than every long interval.
+  std::vector<std::pair<TimeNs, uint64_t>> counts;  // (interval, count), increasing
+  for (const auto& [bin, count] : short_bins_)
+    counts.push_back({shift_ == 0 ? bin : (bin << shift_) + (TimeNs{1} << (shift_ - 1)), count});
+  std::sort(counts.begin(), counts.end());
+  counts.insert(counts.end(), long_intervals_.begin(), long_intervals_.end());
+  const uint64_t rank = (samples_ - 1) / 2;
+  uint64_t below = 0;
+  TimeNs median = 0;
+  for (const auto& [interval, count] : counts) {
+    if (below + count > rank) {
+      median = interval;
+      break;
+    }
+    below += count;
+  }
+  const double median_ns = static_cast<double>(median);
+  s.median_resolution_ns = TimeNs{1} << shift_;
   s.rate_hz = 1e9 / median_ns;
-  const TimeNs span_ns = samples.back().t_ns - samples.front().t_ns;
+  const TimeNs span_ns = last_ns_ - first_ns_;
   s.duration_s = NsToSeconds(span_ns);
   const double expected = std::round(static_cast<double>(span_ns) / median_ns) + 1.0;
-  s.missing_samples = expected > static_cast<double>(samples.size())
-                          ? static_cast<size_t>(expected - static_cast<double>(samples.size()))
+  s.missing_samples = expected > static_cast<double>(samples_)
+                          ? static_cast<size_t>(expected - static_cast<double>(samples_))
                           : 0;
-  const std::vector<ImuGap> gaps = FindImuGaps(samples);
-  if (!gaps.empty()) {
-    s.reason = "the stream has " + DescribeImuGaps(gaps, samples.front().t_ns) +
+  // Gaps as FindImuGaps finds them: longer than 10 median intervals and kImuGapMinSeconds.
+  const double threshold_ns = std::max(kImuGapMedianIntervals * median_ns, kImuGapMinSeconds * 1e9);
+  size_t gap_count = 0;
+  for (const auto& [interval, count] : long_intervals_)
+    if (static_cast<double>(interval) > threshold_ns) gap_count += count;
+  if (gap_count > 0) {
+    // DescribeImuGaps reads the count, the first gap and the longest (the last record).
+    const auto first = std::find_if(records_.begin(), records_.end(), [&](const ImuGap& g) {
+      return static_cast<double>(g.to_ns - g.from_ns) > threshold_ns;
+    });
+    std::vector<ImuGap> gaps(gap_count, *first);
+    gaps.back() = records_.back();
+    s.reason = "the stream has " + DescribeImuGaps(gaps, first_ns_) +
                ": Allan deviation needs one uninterrupted, uniformly sampled series";
     return s;
   }
@@ -255,18 +342,11 @@ UniformSampling CheckUniformSampling(const std::vector<ImuSample>& samples) {
 
 ImuAllanDeviation ComputeImuAllanDeviation(const std::vector<ImuSample>& samples,
                                            const AllanOptions& options) {
-  ImuAllanDeviation result;
-  result.sampling = CheckUniformSampling(samples);
-  if (!result.sampling.ok) return result;
-  const double tau0_s = 1.0 / result.sampling.rate_hz;
-  std::vector<double> series(samples.size());
-  for (int axis = 0; axis < 3; ++axis) {
-    for (size_t i = 0; i < samples.size(); ++i) series[i] = samples[i].gyro_rad_s[axis];
-    result.gyro[axis] = OverlappingAllanDeviation(series, tau0_s, options);
-    for (size_t i = 0; i < samples.size(); ++i) series[i] = samples[i].accel_m_s2[axis];
-    result.accel[axis] = OverlappingAllanDeviation(series, tau0_s, options);
-  }
-  return result;
+  return ComputeImuAllanDeviationStreaming(
+      [&samples](const std::function<void(const ImuSample&)>& visit) {
+        for (const ImuSample& s : samples) visit(s);
+      },
+      options);
 }
 
 }  // namespace mavloc

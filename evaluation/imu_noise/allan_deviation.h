@@ -13,7 +13,9 @@
 //
 // i.e. half the mean square difference of adjacent averages over m samples, taken at every start
 // sample. With the cumulative sums each tau costs O(n); the cluster sizes are log-spaced
-// (10 per decade by default) up to a quarter of the series, so a curve is O(n log n) overall.
+// (10 per decade by default) up to a quarter of the series and AllanOptions::max_tau_s, so a
+// curve is O(n log n) overall. allan_streaming.h computes the same numbers from samples given one
+// at a time, in memory bounded by max_tau_s.
 //
 // Confidence intervals: chi-square with the equivalent degrees of freedom (edf) of the simple
 // approximation formulae for the overlapping Allan variance (Howe, Allan, Barnes 1981; NIST SP 1065
@@ -37,17 +39,25 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <map>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "core/imu.h"
+#include "core/imu_gaps.h"
 
 namespace mavloc {
 
 struct AllanOptions {
   double clusters_per_decade = 10.0;   // log-spaced cluster sizes m = round(10^(j / this)), unique
   double max_cluster_fraction = 0.25;  // m <= this * n (tau up to a quarter of the series)
-  double confidence = 0.6827;          // two-sided confidence of [adev_low, adev_high] (1 sigma)
+  // and m tau0 <= this: the longest tau (`mavloc imu-noise --max-tau`, allan_streaming.h); it
+  // bounds the streaming form's memory.
+  double max_tau_s = std::numeric_limits<double>::infinity();
+  double confidence = 0.6827;  // two-sided confidence of [adev_low, adev_high] (1 sigma)
 };
 
 // Power-law noise types of the edf formulae, named by their IMU meaning (see above); white PM,
@@ -70,6 +80,10 @@ struct AllanCurve {
   double sample_period_s = 0.0;    // tau0
   size_t samples = 0;              // n
   std::vector<AllanPoint> points;  // increasing tau
+  // AllanOptions::max_tau_s, and whether it left out cluster sizes that a quarter of the series
+  // would allow (the curve then stops at max_tau_s, not where the log's length ends it).
+  double max_tau_s = std::numeric_limits<double>::infinity();
+  bool cut_at_max_tau = false;
 };
 
 // The curve of `samples` (uniformly sampled with period sample_period_s). Needs at least
@@ -78,6 +92,16 @@ struct AllanCurve {
 // in double precision for 1e7 samples of a 9.81 m/s^2 accelerometer).
 AllanCurve OverlappingAllanDeviation(const std::vector<double>& samples, double sample_period_s,
                                      const AllanOptions& options = {});
+
+// The log-spaced cluster sizes of a series of `samples` samples of period sample_period_s:
+// m = round(10^(j / clusters_per_decade)), unique, m <= max_cluster_fraction * samples and
+// m sample_period_s <= max_tau_s; *cut (when not null) says whether max_tau_s removed any.
+std::vector<long> AllanClusterSizes(size_t samples, double sample_period_s,
+                                    const AllanOptions& options, bool* cut = nullptr);
+
+// Fills slope, noise, edf and the confidence interval of every point with adev > 0 (a constant
+// series has adev 0 everywhere: no slope, no interval), from the curve's points and `samples`.
+void SetAllanConfidence(AllanCurve* curve, const AllanOptions& options);
 
 // d ln sigma / d ln tau of a curve at point i: the least-squares slope over the points within
 // +-half_width_decades of it (one-sided at the ends).
@@ -110,14 +134,49 @@ struct UniformSampling {
   double rate_hz = 0.0;        // 1 / median interval
   double duration_s = 0.0;     // last stamp - first stamp
   size_t missing_samples = 0;  // round(duration / median interval) + 1 - samples, at least 0
+  // The median interval is exact when this is 1 ns (every log mavloc has seen); else it is known
+  // to within half of it (UniformSamplingCheck).
+  int64_t median_resolution_ns = 1;
 };
 UniformSampling CheckUniformSampling(const std::vector<ImuSample>& samples);
+
+// The streaming form of CheckUniformSampling: stamps one at a time, the same verdict and the same
+// reason. Its memory does not grow with the number of samples: it keeps a histogram of the
+// intervals up to kImuGapMinSeconds (exact while they take at most kMaxExactIntervals distinct
+// values: EuRoC's stamps have a handful, PX4's microsecond stamps a few hundred; beyond, the bins
+// are widened by powers of two and the median is known to within half a bin,
+// UniformSampling::median_resolution_ns), the exact counts of the longer intervals (the
+// candidates for gaps: at most duration / kImuGapMinSeconds of them), and the longer intervals
+// that exceed every interval before them (the first gap is one of them, the longest the last).
+class UniformSamplingCheck {
+ public:
+  static constexpr size_t kMaxExactIntervals = size_t{1} << 16;
+
+  void Add(TimeNs t_ns);
+  UniformSampling Finish() const;
+
+ private:
+  void AddInterval(TimeNs interval_ns, TimeNs from_ns, TimeNs to_ns);
+
+  size_t samples_ = 0;
+  TimeNs first_ns_ = 0, last_ns_ = 0;
+  std::string not_increasing_;  // the reason, from the first stamp that does not come after
+  int shift_ = 0;               // short intervals are binned as interval >> shift_
+  std::unordered_map<TimeNs, uint64_t> short_bins_;
+  TimeNs last_bin_ = -1;  // the bin of the last short interval and its count: a shortcut
+  uint64_t* last_count_ = nullptr;
+  std::map<TimeNs, uint64_t> long_intervals_;  // longer than kImuGapMinSeconds
+  TimeNs longest_ns_ = 0;
+  std::vector<ImuGap> records_;  // long intervals longer than every earlier interval
+};
 
 // The six curves of an IMU stream: gyro x, y, z [rad/s] and accel x, y, z [m/s^2].
 struct ImuAllanDeviation {
   UniformSampling sampling;               // !sampling.ok: the curves are empty
   std::array<AllanCurve, 3> gyro, accel;  // axes x, y, z of B
 };
+// Through ComputeImuAllanDeviationStreaming (allan_streaming.h) over the vector: the numbers of
+// OverlappingAllanDeviation on each axis.
 ImuAllanDeviation ComputeImuAllanDeviation(const std::vector<ImuSample>& samples,
                                            const AllanOptions& options = {});
 

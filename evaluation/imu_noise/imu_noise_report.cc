@@ -1,5 +1,7 @@
 #include "evaluation/imu_noise/imu_noise_report.h"
 
+#include <fmt/format.h>
+
 namespace mavloc {
 
 namespace {
@@ -48,6 +50,12 @@ std::string MethodSection(const ImuNoiseReportInput& input, const ImuNoiseFit& f
       "walk K at tau = 3 s on the slope +1/2, bias instability B = min / 0.664 on a flat floor; "
       "a term the curve does not show is an upper bound. How to read it: "
       "docs/commands/imu-noise.md.\n\n";
+  if (const AllanCurve& curve = curves.gyro[0]; curve.cut_at_max_tau)
+    md += fmt::format(
+        "Cluster times stop at --max-tau = {:g} s; a quarter of this log would reach {:.4g} s "
+        "(the log was streamed twice, and the history the longest tau needs bounds the "
+        "memory).\n\n",
+        curve.max_tau_s, 0.25 * static_cast<double>(curve.samples) * curve.sample_period_s);
   for (const SensorNoiseFit* sensor : {&fit.gyro, &fit.accel})
     if (sensor->moving) md += "- " + sensor->motion_note + "\n";
   md += "\nKalibr `imu.yaml` (per sensor the largest axis):\n\n```yaml\n" +

@@ -80,6 +80,13 @@ std::string LogLengthText(double t_s) {
 
 const char* kImuAxisNames[3] = {"x", "y", "z"};
 
+// Where the longest tau (`mavloc imu-noise --max-tau`) ended a curve that the log would let go on:
+// ", where --max-tau (1000 s) stops it (a quarter of the 13.9 h log: 1.25e+04 s)".
+std::string MaxTauStop(const AllanCurve& curve, double log_s) {
+  return fmt::format(", where --max-tau ({}) stops it (a quarter of the {} log: {})",
+                     TauText(curve.max_tau_s), LogLengthText(log_s), TauText(0.25 * log_s));
+}
+
 }  // namespace
 
 AxisNoiseFit FitAllanNoise(const AllanCurve& curve, const NoiseFitOptions& options) {
@@ -181,6 +188,11 @@ AxisNoiseFit FitAllanNoise(const AllanCurve& curve, const NoiseFitOptions& optio
       t.value = t.upper_bound;
       if (i_min == 0)
         t.note = "no minimum: the curve rises from the shortest tau: upper bound only";
+      else if (!turned_up && curve.cut_at_max_tau)
+        t.note = fmt::format(
+            "not reached: the curve has not levelled off by its largest tau ({}, slope {:+.2f}){}: "
+            "raise --max-tau; upper bound only",
+            TauText(p[last].tau_s), p[last].slope, MaxTauStop(curve, log_s));
       else if (!turned_up)
         t.note = fmt::format(
             "not reached: the curve has not levelled off by its largest tau ({}, slope {:+.2f}); "
@@ -213,7 +225,13 @@ AxisNoiseFit FitAllanNoise(const AllanCurve& curve, const NoiseFitOptions& optio
                            TauText(t.tau_from_s), TauText(t.tau_to_s), t.points);
     } else {
       t.value = walk_bound;
-      if (i_min > 0 && !turned_up && !fit.bias_instability.measured)
+      if (i_min > 0 && !turned_up && !fit.bias_instability.measured && curve.cut_at_max_tau)
+        t.note = fmt::format(
+            "not reached: the curve has not turned up by its largest tau ({}, slope {:+.2f}){}; "
+            "the +1/2 slope begins about a decade past the bias-instability minimum: raise "
+            "--max-tau; upper bound only",
+            TauText(p[last].tau_s), p[last].slope, MaxTauStop(curve, log_s));
+      else if (i_min > 0 && !turned_up && !fit.bias_instability.measured)
         t.note = fmt::format(
             "not reached: the log is {} and the curve has not turned up by its largest tau ({}, "
             "slope {:+.2f}); the +1/2 slope begins about a decade past the bias-instability "
@@ -233,7 +251,13 @@ AxisNoiseFit FitAllanNoise(const AllanCurve& curve, const NoiseFitOptions& optio
             fit.bias_instability.measured ? fit.bias_instability.tau_to_s : fit.tau_at_min_s;
         const char* reference =
             fit.bias_instability.measured ? "bias-instability floor ending" : "minimum";
-        if (40.0 * floor_end_s > log_s)
+        if (curve.cut_at_max_tau && 10.0 * floor_end_s > p[last].tau_s)
+          t.note = fmt::format(
+              "not reached: with the {} at tau {} the +1/2 slope needs tau up to about 10 times "
+              "that ({}), beyond the largest tau {}{}: raise --max-tau; upper bound only",
+              reference, TauText(floor_end_s), TauText(10.0 * floor_end_s), TauText(p[last].tau_s),
+              MaxTauStop(curve, log_s));
+        else if (40.0 * floor_end_s > log_s)
           t.note = fmt::format(
               "not reached: the log is {} (largest tau {}, slope there {:+.2f}); with the {} at "
               "tau {} the +1/2 slope needs tau up to about 10 times that ({}), i.e. a static log "
@@ -416,6 +440,11 @@ std::string ImuNoiseTable(const ImuNoiseFit& fit, const ImuAllanDeviation& curve
       s.samples, s.rate_hz, LogLengthText(s.duration_s),
       curves.gyro[0].points.empty() ? 0.0 : curves.gyro[0].points.front().tau_s,
       curves.gyro[0].points.empty() ? 0.0 : curves.gyro[0].points.back().tau_s);
+  if (curves.gyro[0].cut_at_max_tau)
+    text += fmt::format(
+        "tau stops at --max-tau {:g} s (a quarter of the log would reach {:.4g} s)\n",
+        curves.gyro[0].max_tau_s,
+        0.25 * static_cast<double>(curves.gyro[0].samples) * curves.gyro[0].sample_period_s);
   if (s.missing_samples > 0)
     text += fmt::format(
         "{} samples missing (dropped by the logger, {:.2f} %): analysed as {} consecutive "

@@ -23,6 +23,8 @@
 // tau >= 10 tau0 (the anti-aliasing filters of real IMUs lower the shortest taus),
 // K <= min sigma(tau) sqrt(3 / tau), B <= min sigma / 0.664, with a note saying why it was not
 // measured (e.g. "not reached: the log is 146 s ..."): random walk needs a static log of hours.
+// When AllanOptions::max_tau_s (`mavloc imu-noise --max-tau`) ended the curve before a quarter of
+// the log did (AllanCurve::cut_at_max_tau), the notes blame the cap, not the log's length.
 //
 // Units: a gyroscope's curve in rad/s gives N in rad/s/sqrt(Hz), B in rad/s, K in
 // rad/s^2/sqrt(Hz); an accelerometer's in m/s^2 gives m/s^2/sqrt(Hz), m/s^2, m/s^3/sqrt(Hz):

@@ -139,6 +139,10 @@ std::vector<Case> Cases() {
       {"imu-noise nowhere --out o --to inf", {"--to", "inf"}},
       {"imu-noise nowhere --out o --from -1", {"--from -1", ">= 0"}},
       {"imu-noise nowhere --out o --from 5 --to 2", {"--from 5", "--to 2"}},
+      {"imu-noise nowhere --out o --max-tau 0", {"--max-tau 0", "> 0"}},
+      {"imu-noise nowhere --out o --max-tau -3", {"--max-tau -3", "> 0"}},
+      {"imu-noise nowhere --out o --max-tau nan", {"--max-tau", "nan"}},
+      {"imu-noise nowhere --out o --max-tau inf", {"--max-tau", "inf"}},
       // observability.
       {"observability laser --states 0", {"--states", "'0'"}},
       {"observability laser --order 3", {"--order", "'3'"}},

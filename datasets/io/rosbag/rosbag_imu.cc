@@ -1,7 +1,8 @@
-// sensor_msgs/Imu -> ImuSample (rosbag_reader.h).
+// sensor_msgs/Imu -> ImuSample (rosbag_reader.h; the streaming form is declared in log_reader.h).
 #include <fmt/format.h>
 
 #include <cmath>
+#include <optional>
 
 #include "core/errors.h"
 #include "core/physical_limits.h"
@@ -11,13 +12,14 @@
 
 namespace mavloc {
 
-std::vector<ImuSample> ReadRosbagImu(const std::string& path, const std::string& topic) {
+void ForEachRosbagImuSample(const std::string& path, const std::string& topic,
+                            const std::function<void(const ImuSample&)>& visit) {
   ros1::OpenedBag bag(path);
   const std::string type = bag.TopicType(topic);
   if (type != "sensor_msgs/Imu") {
     throw InputError(path, 0, "", fmt::format("topic {} is {}, not sensor_msgs/Imu", topic, type));
   }
-  std::vector<ImuSample> samples;
+  std::optional<TimeNs> previous_ns;
   bag.ForEachMessage(topic, [&](const rosbag::MessageInstance& message, uint64_t index) {
     const auto imu = ros1::Instantiate<ros1::ImuMsg>(bag, topic, index, message);
     ImuSample sample;
@@ -43,13 +45,19 @@ std::vector<ImuSample> ReadRosbagImu(const std::string& path, const std::string&
                            limits::RangeText(-limits::kMaxSpecificForce_m_s2,
                                              limits::kMaxSpecificForce_m_s2, "m/s^2")));
     }
-    if (!samples.empty() && sample.t_ns <= samples.back().t_ns) {
+    if (previous_ns && sample.t_ns <= *previous_ns) {
       bag.Fail(topic, index,
                fmt::format("header.stamp {} ns does not increase (previous {} ns)", sample.t_ns,
-                           samples.back().t_ns));
+                           *previous_ns));
     }
-    samples.push_back(sample);
+    previous_ns = sample.t_ns;
+    visit(sample);
   });
+}
+
+std::vector<ImuSample> ReadRosbagImu(const std::string& path, const std::string& topic) {
+  std::vector<ImuSample> samples;
+  ForEachRosbagImuSample(path, topic, [&samples](const ImuSample& s) { samples.push_back(s); });
   return samples;
 }
 

@@ -21,18 +21,20 @@ constexpr double kRelativeTimestampInvalid = 2147483647.0;
 
 Eigen::Vector3d Vec3(const double* values) { return {values[0], values[1], values[2]}; }
 
-// Collects one IMU topic's samples: refuses values no IMU measures (ulog_reader.h), drops and
+// Hands on one IMU topic's samples: refuses values no IMU measures (ulog_reader.h), drops and
 // counts what PX4 marks invalid and stamps that do not increase.
 class ImuCollector {
  public:
-  ImuCollector(const std::string& path, const std::string& topic) : path_(path), topic_(topic) {}
+  ImuCollector(const std::string& path, const std::string& topic,
+               const std::function<void(const ImuSample&)>& visit)
+      : path_(path), topic_(topic), visit_(visit) {}
 
   // The topic's next message (index counts them from 0).
   uint64_t NextIndex() { return index_++; }
   void Drop(const std::string& reason, uint64_t index) { dropped_.Add(reason, index); }
 
-  // Checks each component (FRD as logged) against its limit, then appends when later than the
-  // previous sample. `gyro_fields` / `accel_fields` name the logged fields of the values.
+  // Checks each component (FRD as logged) against its limit, then hands the sample on when later
+  // than the previous one. `gyro_fields` / `accel_fields` name the logged fields of the values.
   void Push(uint64_t index, TimeNs t_ns, const Eigen::Vector3d& gyro_frd_rad_s,
             const Eigen::Vector3d& accel_frd_m_s2, const char* const gyro_fields[3],
             const char* const accel_fields[3]) {
@@ -42,38 +44,35 @@ class ImuCollector {
       ulog::RequireWithin(path_, topic_, index, accel_fields[k], accel_frd_m_s2[k],
                           limits::kMaxSpecificForce_m_s2, "m/s^2");
     }
-    const std::optional<TimeNs> previous =
-        samples_.empty() ? std::nullopt : std::optional<TimeNs>(samples_.back().t_ns);
-    if (dropped_.DropNotIncreasing(t_ns, previous, index)) return;
+    if (dropped_.DropNotIncreasing(t_ns, previous_ns_, index)) return;
     ImuSample s;
     s.t_ns = t_ns;
     s.gyro_rad_s = ulog::FrdToFlu(gyro_frd_rad_s);
     s.accel_m_s2 = ulog::FrdToFlu(accel_frd_m_s2);
-    samples_.push_back(s);
+    previous_ns_ = t_ns;
+    visit_(s);
   }
 
-  std::vector<ImuSample> Finish(std::vector<std::string>* notes) {
-    dropped_.AppendNotes(topic_, notes);
-    return std::move(samples_);
-  }
+  void Finish(std::vector<std::string>* notes) const { dropped_.AppendNotes(topic_, notes); }
 
  private:
   const std::string& path_;
   const std::string& topic_;
+  const std::function<void(const ImuSample&)>& visit_;
   uint64_t index_ = 0;
   ulog::DroppedMessages dropped_;
-  std::vector<ImuSample> samples_;
+  std::optional<TimeNs> previous_ns_;  // of the last sample handed on
 };
 
-std::vector<ImuSample> FromSensorCombined(const std::string& path, const std::string& topic,
-                                          const UlogProgress& progress,
-                                          std::vector<std::string>* notes) {
+void FromSensorCombined(const std::string& path, const std::string& topic,
+                        const std::function<void(const ImuSample&)>& visit,
+                        const UlogProgress& progress, std::vector<std::string>* notes) {
   // gyro_rad: rad/s, accelerometer_m_s2: specific force, both FRD; the gyro sample time is the
   // gyro's `timestamp`, the accelerometer's is timestamp + accelerometer_timestamp_relative.
   static const char* const kGyro[3] = {"gyro_rad[0]", "gyro_rad[1]", "gyro_rad[2]"};
   static const char* const kAccel[3] = {"accelerometer_m_s2[0]", "accelerometer_m_s2[1]",
                                         "accelerometer_m_s2[2]"};
-  ImuCollector collector(path, topic);
+  ImuCollector collector(path, topic, visit);
   std::vector<std::string> scan_notes;
   ulog::ForEachTopicRow(
       path, topic,
@@ -96,20 +95,19 @@ std::vector<ImuSample> FromSensorCombined(const std::string& path, const std::st
                        Vec3(v + 3), kGyro, kAccel);
       },
       &scan_notes);
-  std::vector<ImuSample> samples = collector.Finish(notes);
+  collector.Finish(notes);
   if (notes != nullptr) notes->insert(notes->begin(), scan_notes.begin(), scan_notes.end());
-  return samples;
 }
 
-std::vector<ImuSample> FromVehicleImu(const std::string& path, const std::string& topic,
-                                      const UlogProgress& progress,
-                                      std::vector<std::string>* notes) {
+void FromVehicleImu(const std::string& path, const std::string& topic,
+                    const std::function<void(const ImuSample&)>& visit,
+                    const UlogProgress& progress, std::vector<std::string>* notes) {
   // delta_angle [rad] over delta_angle_dt [us], delta_velocity [m/s] over delta_velocity_dt [us],
   // FRD, integrated up to timestamp_sample: their means over the interval, stamped at its end.
   static const char* const kAngle[3] = {"delta_angle[0]", "delta_angle[1]", "delta_angle[2]"};
   static const char* const kVelocity[3] = {"delta_velocity[0]", "delta_velocity[1]",
                                            "delta_velocity[2]"};
-  ImuCollector collector(path, topic);
+  ImuCollector collector(path, topic, visit);
   std::vector<std::string> scan_notes;
   ulog::ForEachTopicRow(
       path, topic,
@@ -143,18 +141,27 @@ std::vector<ImuSample> FromVehicleImu(const std::string& path, const std::string
                        kVelocity);
       },
       &scan_notes);
-  std::vector<ImuSample> samples = collector.Finish(notes);
+  collector.Finish(notes);
   if (notes != nullptr) notes->insert(notes->begin(), scan_notes.begin(), scan_notes.end());
-  return samples;
 }
 
 }  // namespace
 
 std::vector<ImuSample> ReadUlogImu(const std::string& path, const std::string& topic,
                                    const UlogProgress& progress, std::vector<std::string>* notes) {
+  std::vector<ImuSample> samples;
+  ForEachUlogImuSample(
+      path, topic, [&samples](const ImuSample& s) { samples.push_back(s); }, progress, notes);
+  return samples;
+}
+
+void ForEachUlogImuSample(const std::string& path, const std::string& topic,
+                          const std::function<void(const ImuSample&)>& visit,
+                          const UlogProgress& progress, std::vector<std::string>* notes) {
   const ulog::TopicSelector selector = ulog::ParseTopicSelector(path, topic);
-  if (selector.name == "sensor_combined") return FromSensorCombined(path, topic, progress, notes);
-  if (selector.name == "vehicle_imu") return FromVehicleImu(path, topic, progress, notes);
+  if (selector.name == "sensor_combined")
+    return FromSensorCombined(path, topic, visit, progress, notes);
+  if (selector.name == "vehicle_imu") return FromVehicleImu(path, topic, visit, progress, notes);
   throw InputError(path, 0, topic,
                    "not a ULog IMU topic: use sensor_combined or vehicle_imu (vehicle_imu.N for "
                    "another instance)");

@@ -105,6 +105,12 @@ using UlogProgress = std::function<void(uint64_t bytes_done, uint64_t bytes_tota
 std::vector<ImuSample> ReadUlogImu(const std::string& path, const std::string& topic,
                                    const UlogProgress& progress = {},
                                    std::vector<std::string>* notes = nullptr);
+// Its streaming form: `visit` gets each kept sample as it is read, nothing is kept here; the
+// notes are added at the end.
+void ForEachUlogImuSample(const std::string& path, const std::string& topic,
+                          const std::function<void(const ImuSample&)>& visit,
+                          const UlogProgress& progress = {},
+                          std::vector<std::string>* notes = nullptr);
 
 // A trajectory in mavloc's W (ENU or z-up FRD-world, see above) and B (FLU):
 // - vehicle_attitude: q (Hamilton w,x,y,z, body FRD -> NED); position zero, no velocity.
