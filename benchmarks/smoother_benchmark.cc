@@ -5,6 +5,14 @@
 // the length grows: the problem is block-banded), real-time factor (flight time / solve time,
 // target >= 50 on 2 cores), Ceres iterations and the time split. The Ceres summary of each length
 // is printed once to stderr.
+//
+// Covariances (BM_SmootherCovarianceFigureEight): mav-figure-eight (IMU 200 Hz, cam0 20 Hz, known
+// landmarks) for 60, 300 and 600 s, seeded by the built-in landmark PnP, solved with pose
+// covariances by each SmootherCovarianceMethod (0: kStructured, the default; 1: kCeres, i.e.
+// ceres::Covariance). Counters: keyframes, solve_s (Ceres' solve, all relinearization rounds),
+// cov_s (the covariance step), cov_per_solve (their ratio; target <= 1.2 at 600 s for kStructured),
+// ms of covariance per keyframe (flat when linear) and, for kStructured, the smallest relative
+// pivot. kCeres at 600 s takes minutes: --benchmark_filter='Covariance.*/0' runs kStructured only.
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -15,6 +23,7 @@
 #include "solver/estimator.h"
 #include "solver/estimators/smoother_estimator.h"
 #include "solver/smoother/smoother_initialization.h"
+#include "solver/smoother/smoother_problem.h"
 
 namespace mavloc {
 namespace {
@@ -74,6 +83,69 @@ BENCHMARK(BM_SmootherTagArenaDynamic)
     ->Arg(30)
     ->Arg(100)
     ->Arg(300)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+
+struct CovarianceCase {
+  Dataset dataset;
+  std::vector<SmootherKeyframe> initial;
+};
+
+const CovarianceCase& GetCovarianceCase(int duration_s) {
+  static std::map<int, std::unique_ptr<CovarianceCase>> cache;
+  auto& entry = cache[duration_s];
+  if (!entry) {
+    entry = std::make_unique<CovarianceCase>();
+    ScenarioOptions options;
+    options.seed = 1;
+    options.duration_s = duration_s;
+    entry->dataset = FindScenario("mav-figure-eight")->generate(options);
+    const std::vector<StampedPose> seed = LandmarkPnpSeed(entry->dataset);
+    entry->initial =
+        InitializeFromSeed(entry->dataset, SmootherKeyframeTimes(entry->dataset), seed).keyframes;
+  }
+  return *entry;
+}
+
+void BM_SmootherCovarianceFigureEight(benchmark::State& state) {
+  const int duration_s = static_cast<int>(state.range(0));
+  const auto method = state.range(1) == 0 ? SmootherCovarianceMethod::kStructured
+                                          : SmootherCovarianceMethod::kCeres;
+  if (!FindScenario("mav-figure-eight")) {
+    state.SkipWithError("mav-figure-eight not available");
+    return;
+  }
+  const CovarianceCase& c = GetCovarianceCase(duration_s);
+  EstimatorOptions estimator_options;
+  estimator_options.Set("threads", "2");
+  SmootherProblemOptions options =
+      SmootherEstimator(estimator_options).ProblemOptionsFor(c.dataset);
+  options.compute_covariance = true;
+  options.covariance_method = method;
+  SmootherResult result;
+  for (auto _ : state) {
+    result = SolveSmoother(c.dataset, c.initial, {}, std::nullopt, options);
+    benchmark::DoNotOptimize(result);
+  }
+  const SmootherStatistics& s = result.statistics;
+  int with_covariance = 0;
+  for (const auto& C : result.pose_covariances) with_covariance += C.has_value() ? 1 : 0;
+  state.counters["keyframes"] = s.num_keyframes;
+  state.counters["with_cov"] = with_covariance;
+  state.counters["solve_s"] = s.solve_s;
+  state.counters["cov_s"] = s.covariance_s;
+  state.counters["cov_per_solve"] = s.covariance_s / std::max(s.solve_s, 1e-9);
+  state.counters["cov_ms_per_kf"] = 1e3 * s.covariance_s / std::max(1, s.num_keyframes);
+  if (method == SmootherCovarianceMethod::kStructured)
+    state.counters["min_pivot"] = s.covariance_min_relative_pivot;
+  std::fprintf(stderr, "--- mav-figure-eight %d s, %s covariance: %s\n", duration_s,
+               method == SmootherCovarianceMethod::kCeres ? "ceres" : "structured",
+               s.ceres_brief_report.c_str());
+}
+
+BENCHMARK(BM_SmootherCovarianceFigureEight)
+    ->ArgsProduct({{60, 300, 600}, {0, 1}})
+    ->ArgNames({"s", "ceres"})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 

@@ -22,6 +22,7 @@
 #include "solver/smoother/residuals/map_point_reprojection_factor.h"
 #include "solver/smoother/residuals/pose_prior_factor.h"
 #include "solver/smoother/residuals/vector_prior_factor.h"
+#include "solver/smoother/smoother_covariance.h"
 #include "solver/smoother/tilt_manifold.h"
 
 namespace mavloc {
@@ -588,9 +589,6 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
         (!estimated_cameras.empty() || time_offset_estimated || tilt_estimated);
     if (last_round && (options.compute_covariance || calibration_asked)) {
       const auto t_cov = std::chrono::steady_clock::now();
-      ceres::Covariance::Options covariance_options;
-      covariance_options.num_threads = std::max(1, options.num_threads);
-      ceres::Covariance covariance(covariance_options);
       std::vector<std::pair<const double*, const double*>> pairs;
       if (options.compute_covariance) {
         for (auto& b : blocks) {
@@ -609,18 +607,51 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
         if (time_offset_estimated) pairs.emplace_back(time_offset.data(), time_offset.data());
         if (tilt_estimated) pairs.emplace_back(q_W_M.data(), q_W_M.data());
       }
+      // Both methods answer the same tangent-space blocks (smoother_problem.h).
+      std::unique_ptr<ceres::Covariance> ceres_covariance;
+      SmootherCovarianceOptions structured_options;
+      structured_options.num_threads = std::max(1, options.num_threads);
+      SmootherCovariance structured(structured_options);
+      bool computed = false;
+      if (options.covariance_method == SmootherCovarianceMethod::kCeres) {
+        ceres::Covariance::Options covariance_options;
+        covariance_options.num_threads = std::max(1, options.num_threads);
+        ceres_covariance = std::make_unique<ceres::Covariance>(covariance_options);
+        computed = ceres_covariance->Compute(pairs, &problem);
+      } else {
+        // The keyframe chain in time order; every other block is placed after the last keyframe
+        // that shares a residual with it (smoother_covariance.h).
+        SmootherCovarianceLayout layout;
+        layout.keyframes.reserve(n);
+        for (auto& b : blocks)
+          layout.keyframes.push_back(
+              {b.q.data(), b.p.data(), b.v.data(), b.b_g.data(), b.b_a.data()});
+        for (auto& [id, p] : landmarks) layout.others.push_back(p.data());
+        layout.others.insert(layout.others.end(),
+                             {plane_n.data(), plane_d.data(), q_W_M.data(), time_offset.data()});
+        for (auto& [cam, e] : extrinsics) {
+          layout.others.push_back(e.q.data());
+          layout.others.push_back(e.p.data());
+        }
+        computed = structured.Compute(layout, pairs, &problem);
+        st.covariance_min_relative_pivot = structured.statistics().min_relative_pivot;
+        if (!computed && options.verbose)
+          std::fprintf(stderr, "covariance: %s\n", structured.message().c_str());
+      }
+      auto tangent_block = [&](const double* a, const double* b, double* out) {
+        if (ceres_covariance)
+          ceres_covariance->GetCovarianceBlockInTangentSpace(a, b, out);
+        else
+          structured.GetCovarianceBlockInTangentSpace(a, b, out);
+      };
       if (options.compute_covariance) result.pose_covariances.assign(n, std::nullopt);
-      const bool computed = covariance.Compute(pairs, &problem);
       if (!computed && calibration_asked) result.calibration.covariance_failed = true;
       if (computed && options.compute_covariance) {
         for (int k = 0; k < n; ++k) {
           Eigen::Matrix<double, 3, 3, Eigen::RowMajor> pp, qq, pq;
-          covariance.GetCovarianceBlockInTangentSpace(blocks[k].p.data(), blocks[k].p.data(),
-                                                      pp.data());
-          covariance.GetCovarianceBlockInTangentSpace(blocks[k].q.data(), blocks[k].q.data(),
-                                                      qq.data());
-          covariance.GetCovarianceBlockInTangentSpace(blocks[k].p.data(), blocks[k].q.data(),
-                                                      pq.data());
+          tangent_block(blocks[k].p.data(), blocks[k].p.data(), pp.data());
+          tangent_block(blocks[k].q.data(), blocks[k].q.data(), qq.data());
+          tangent_block(blocks[k].p.data(), blocks[k].q.data(), pq.data());
           result.pose_covariances[k] =
               PoseCovarianceFromTangent(pp, qq, pq, FromBlocks(blocks[k]).q_W_B);
         }
@@ -630,20 +661,20 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
         for (const int cam : estimated_cameras) {
           ExtrinsicBlocks& e = extrinsics[cam];
           Eigen::Matrix<double, 3, 3, Eigen::RowMajor> pp, qq, pq;
-          covariance.GetCovarianceBlockInTangentSpace(e.p.data(), e.p.data(), pp.data());
-          covariance.GetCovarianceBlockInTangentSpace(e.q.data(), e.q.data(), qq.data());
-          covariance.GetCovarianceBlockInTangentSpace(e.p.data(), e.q.data(), pq.data());
+          tangent_block(e.p.data(), e.p.data(), pp.data());
+          tangent_block(e.q.data(), e.q.data(), qq.data());
+          tangent_block(e.p.data(), e.q.data(), pq.data());
           cal.T_B_C_covariance[cam] =
               PoseCovarianceFromTangent(pp, qq, pq, QuaternionFromBlock(e.q));
         }
         if (time_offset_estimated) {
-          double var = 0.0;
-          covariance.GetCovarianceBlock(time_offset.data(), time_offset.data(), &var);
+          double var = 0.0;  // no manifold: tangent = ambient
+          tangent_block(time_offset.data(), time_offset.data(), &var);
           cal.time_offset_sigma_s = std::sqrt(std::max(var, 0.0));
         }
         if (tilt_estimated) {
           Eigen::Matrix<double, 2, 2, Eigen::RowMajor> tt;
-          covariance.GetCovarianceBlockInTangentSpace(q_W_M.data(), q_W_M.data(), tt.data());
+          tangent_block(q_W_M.data(), q_W_M.data(), tt.data());
           cal.tilt_covariance = Eigen::Matrix2d(tt);
         }
       }

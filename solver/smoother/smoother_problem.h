@@ -13,7 +13,7 @@
 //   the yaw of W is gauge); with any of them the tag corners go through
 //   CalibratedReprojectionFactor, else through MapPointReprojectionFactor as before,
 // solved by Levenberg-Marquardt with a sparse Cholesky factorisation (SuiteSparse), and marginal
-// covariances of the keyframe poses and of the calibration on request (ceres::Covariance).
+// covariances of the keyframe poses and of the calibration on request (SmootherCovarianceMethod).
 // On a board map the solution is re-expressed in the W of core/board_frame.h (a rotation of every
 // state about z_W, which leaves the IMU factors unchanged).
 #pragma once
@@ -46,12 +46,29 @@ enum class LandmarkMode {
   kUnknown,        // free 3-D parameters (gauge from a prior on the first pose)
 };
 
+// How the marginal covariances (compute_covariance, calibration_covariance) are computed. Both give
+// the blocks of (J^T J)^-1 in the tangent space at the solution, J the Jacobian of every residual
+// (robust-loss corrections applied) over the non-constant parameter blocks; both report a rank
+// deficient J (gauge freedom) as failure: pose_covariances stay nullopt and, when calibration
+// covariances were asked for, SmootherCalibration::covariance_failed is set.
+enum class SmootherCovarianceMethod {
+  // solver/smoother/smoother_covariance.h: J^T J as a sparse matrix, a sparse Cholesky factor in
+  // keyframe time order (calibration and long-seen landmarks as its border) and Takahashi's
+  // selected inversion on the factor's pattern. Time and memory linear in the keyframes.
+  kStructured,
+  // ceres::Covariance (SPARSE_QR): one sparse triangular solve per requested column, time growing
+  // quadratically with the keyframes (600 s of mav-figure-eight: minutes). Kept as the reference
+  // for tests/evaluation/smoother_covariance_test.cc and benchmarks/smoother_benchmark.cc.
+  kCeres,
+};
+
 struct SmootherProblemOptions {
   SmootherLoss loss = SmootherLoss::kHuber;
   double loss_scale = 2.0;  // in standard deviations (residuals are whitened)
   int max_iterations = 50;
   int num_threads = 2;
   bool compute_covariance = false;
+  SmootherCovarianceMethod covariance_method = SmootherCovarianceMethod::kStructured;
   bool verbose = false;
 
   // Visual noise (standard deviations).
@@ -111,6 +128,9 @@ struct SmootherStatistics {
   double residual_evaluation_s = 0.0;
   double jacobian_evaluation_s = 0.0;
   double covariance_s = 0.0;
+  // kStructured (smoother_covariance.h): min_j L_jj^2 / H_jj of the information matrix's Cholesky
+  // factor (how close to rank deficient; 0 when not computed).
+  double covariance_min_relative_pivot = 0.0;
   double initial_cost = 0.0;
   double final_cost = 0.0;
   std::string linear_solver;
@@ -129,7 +149,7 @@ struct SmootherCalibration {
   // left perturbation Exp((d1, d2, 0)) R_W_M about W's x and y axes (rad^2).
   std::optional<Eigen::Quaterniond> q_W_M;
   std::optional<Eigen::Matrix2d> tilt_covariance;
-  bool covariance_failed = false;  // asked for and ceres::Covariance failed (rank deficiency)
+  bool covariance_failed = false;  // asked for and not computable (rank deficiency)
 };
 
 // Tag corners at the solution: pixel errors (before the robust loss) and how many corners the loss
