@@ -13,6 +13,9 @@
 #include "datasets/io/euroc_io.h"
 #include "evaluation/association.h"
 #include "evaluation/obstacle_evaluation.h"
+#include "evaluation/obstacle_report.h"
+#include "evaluation/report/report_folder.h"
+#include "evaluation/report_figures.h"
 #include "solver/estimator.h"
 
 namespace mavloc::cli {
@@ -135,7 +138,8 @@ void RegisterObstacles(CLI::App& app, int* exit_code) {
     std::optional<ObstacleEvaluation> evaluation;
     if (room && !dataset.ground_truth.empty())
       evaluation = EvaluateObstacleAlerts(run, *room, GroundTruthPoses(dataset));
-    WriteReportFolder(report.path(), ObstacleReport(dataset.name, run, evaluation));
+    WriteReport(report.path(), ObstacleReport(dataset.name, run, evaluation));
+    const FigureOutcome figures = WriteReportFigures(report.path(), report.ForUser(report.path()));
     report.Commit();
     int alerts = 0;
     for (const ObstacleFrame& frame : run.frames) alerts += frame.check.alert;
@@ -146,7 +150,7 @@ void RegisterObstacles(CLI::App& app, int* exit_code) {
                   evaluation->precision, evaluation->recall, evaluation->obstacles_alerted,
                   evaluation->obstacles_within_clearance);
     }
-    std::printf("\n");
+    std::printf("\n%s\n", report.ForUser(DescribeFigureOutcome(figures)).c_str());
     *exit_code = 0;
   });
 }

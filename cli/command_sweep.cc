@@ -22,6 +22,7 @@
 #include "core/errors.h"
 #include "core/key_values.h"
 #include "core/number_text.h"
+#include "evaluation/report_figures.h"
 #include "evaluation/sweep/slurm_submit.h"
 #include "evaluation/sweep/sweep_grid.h"
 #include "evaluation/sweep/sweep_partial.h"
@@ -226,9 +227,12 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
                   indices.size(), units, path.c_str());
     } else {
       WriteSweepReport(report->path(), BuildSweepReport(grid, SweepFingerprint(grid), results));
+      const FigureOutcome figures =
+          WriteReportFigures(report->path(), report->ForUser(report->path()));
       report->Commit();
-      std::printf("sweep: %zu units; report written to %s/ (report.md, report.json, runs.csv)\n",
-                  units, args->out.c_str());
+      std::printf(
+          "sweep: %zu units; report written to %s/ (report.md, report.json, runs.csv)\n%s\n", units,
+          args->out.c_str(), report->ForUser(DescribeFigureOutcome(figures)).c_str());
     }
     *exit_code = 0;
   });
@@ -249,10 +253,12 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
     const MergedSweep merged = MergePartials(*merge_inputs);
     WriteSweepReport(report.path(),
                      BuildSweepReport(merged.grid, merged.fingerprint, merged.units));
+    const FigureOutcome figures = WriteReportFigures(report.path(), report.ForUser(report.path()));
     report.Commit();
     std::printf(
-        "sweep-merge: %zu units; report written to %s/ (report.md, report.json, runs.csv)\n",
-        merged.units.size(), merge_out->c_str());
+        "sweep-merge: %zu units; report written to %s/ (report.md, report.json, runs.csv)\n%s\n",
+        merged.units.size(), merge_out->c_str(),
+        report.ForUser(DescribeFigureOutcome(figures)).c_str());
     *exit_code = 0;
   });
 

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <set>
 
 #include "core/errors.h"
 #include "core/rotation.h"
@@ -15,26 +14,6 @@
 namespace mavloc {
 
 namespace {
-
-// Reports list the standard quantities first, in this order, then the others alphabetically.
-std::vector<std::string> OrderedQuantities(const std::vector<EstimatorEvaluation>& evaluations) {
-  static const std::vector<std::string> kStandard = {"x",   "y",  "z",  "roll", "pitch",
-                                                     "yaw", "vx", "vy", "vz"};
-  std::set<std::string> present;
-  for (const auto& e : evaluations)
-    for (const auto& q : e.quantity_errors) present.insert(q.name);
-  std::vector<std::string> ordered;
-  for (const auto& name : kStandard)
-    if (present.erase(name)) ordered.push_back(name);
-  ordered.insert(ordered.end(), present.begin(), present.end());
-  return ordered;
-}
-
-const QuantityErrorSeries* FindSeries(const EstimatorEvaluation& e, const std::string& name) {
-  for (const auto& q : e.quantity_errors)
-    if (q.name == name) return &q;
-  return nullptr;
-}
 
 ErrorStatistics Scaled(ErrorStatistics s, double factor) {
   for (double* v : {&s.rmse, &s.mean, &s.median, &s.std, &s.min, &s.max}) *v *= factor;
@@ -162,27 +141,20 @@ nlohmann::json EvaluationToJson(const EstimatorEvaluation& evaluation) {
     return j;
   }
   nlohmann::json quantities = nlohmann::json::object();
-  for (const auto& q : evaluation.quantity_errors) {
-    const double scale = ReportScale(q.unit);
-    quantities[q.name] = {{"mean_abs", q.mean_abs * scale},
-                          {"rmse", q.rmse * scale},
-                          {"max_abs", q.max_abs * scale},
+  for (const auto& q : evaluation.quantity_errors)
+    quantities[q.name] = {{"mean_abs", q.mean_abs},
+                          {"rmse", q.rmse},
+                          {"max_abs", q.max_abs},
                           {"count", q.error.size()},
-                          {"unit", ReportUnit(q.unit)}};
-  }
+                          {"unit", q.unit}};
   j["quantities"] = quantities;
   if (evaluation.ate) {
     const auto& a = *evaluation.ate;
-    j["ate"] = {{"rmse", a.translation_m.rmse},
-                {"mean", a.translation_m.mean},
-                {"median", a.translation_m.median},
-                {"std", a.translation_m.std},
-                {"min", a.translation_m.min},
-                {"max", a.translation_m.max},
-                {"count", a.translation_m.count},
-                {"rotation_rmse_deg", a.rotation_rad.rmse * 180.0 / M_PI},
-                {"align", AlignmentModeName(a.align)},
-                {"unit", "m"}};
+    j["ate"] = {{"rmse", a.translation_m.rmse},        {"mean", a.translation_m.mean},
+                {"median", a.translation_m.median},    {"std", a.translation_m.std},
+                {"min", a.translation_m.min},          {"max", a.translation_m.max},
+                {"count", a.translation_m.count},      {"rotation_rmse_rad", a.rotation_rad.rmse},
+                {"align", AlignmentModeName(a.align)}, {"unit", "m"}};
   }
   if (evaluation.is_reference) j["reference"] = true;
   if (!evaluation.reprojection.empty()) {
@@ -197,9 +169,8 @@ nlohmann::json EvaluationToJson(const EstimatorEvaluation& evaluation) {
   if (!evaluation.estimate.parameters.empty()) {
     nlohmann::json parameters = nlohmann::json::object();
     for (const auto& [name, p] : evaluation.estimate.parameters) {
-      const double scale = ReportScale(p.unit);
-      nlohmann::json entry = {{"value", p.value * scale}, {"unit", ReportUnit(p.unit)}};
-      if (p.sigma) entry["sigma"] = *p.sigma * scale;
+      nlohmann::json entry = {{"value", p.value}, {"unit", p.unit}};
+      if (p.sigma) entry["sigma"] = *p.sigma;
       parameters[name] = entry;
     }
     j["parameters"] = parameters;
@@ -213,7 +184,7 @@ nlohmann::json EvaluationToJson(const EstimatorEvaluation& evaluation) {
       if (e.covariance) {
         const Eigen::Matrix<double, 6, 1> sigma = e.covariance->diagonal().cwiseSqrt();
         entry["sigma_p_m"] = {sigma[0], sigma[1], sigma[2]};
-        entry["sigma_rotation_deg"] = {sigma[3] / kDeg, sigma[4] / kDeg, sigma[5] / kDeg};
+        entry["sigma_rotation_rad"] = {sigma[3], sigma[4], sigma[5]};
       }
       extrinsics[camera] = entry;
     }
@@ -223,51 +194,6 @@ nlohmann::json EvaluationToJson(const EstimatorEvaluation& evaluation) {
   if (!evaluation.estimate.failures.empty()) j["failures"] = evaluation.estimate.failures;
   if (!evaluation.warnings.empty()) j["warnings"] = evaluation.warnings;
   return j;
-}
-
-std::string ComparisonMarkdownTable(const std::vector<EstimatorEvaluation>& evaluations) {
-  const auto names = OrderedQuantities(evaluations);
-  std::vector<std::string> header = {"estimator"};
-  for (const auto& name : names) {
-    std::string unit;
-    for (const auto& e : evaluations)
-      if (const auto* s = FindSeries(e, name)) unit = ReportUnit(s->unit);
-    header.push_back(name + " [" + unit + "]");
-  }
-  bool any_reprojection = false;
-  for (const auto& e : evaluations) any_reprojection = any_reprojection || !e.reprojection.empty();
-  header.insert(header.end(), {"ATE rmse [m]", "runtime [s]", "no solution"});
-  if (any_reprojection) header.push_back("reprojection rms [px]");
-  std::vector<std::vector<std::string>> rows;
-  for (const auto& e : evaluations) {
-    std::vector<std::string> row = {e.estimator};
-    if (!e.ran) {
-      for (size_t k = 0; k < header.size() - 1; ++k)
-        row.push_back(k == 0 ? "skipped: " + e.skipped_reason : "");
-      rows.push_back(row);
-      continue;
-    }
-    for (const auto& name : names) {
-      const auto* s = FindSeries(e, name);
-      if (e.is_reference)
-        row.push_back("reference");
-      else
-        row.push_back(s ? FormatNumber(s->mean_abs * ReportScale(s->unit), 4) : "-");
-    }
-    row.push_back(e.is_reference ? "reference"
-                  : e.ate        ? FormatNumber(e.ate->translation_m.rmse, 4)
-                                 : "-");
-    row.push_back(FormatNumber(e.runtime_s, 3));
-    row.push_back(std::to_string(e.estimate.FailureCount()));
-    if (any_reprojection) {
-      std::string cell;
-      for (const auto& r : e.reprojection)
-        cell += (cell.empty() ? "" : ", ") + r.camera + " " + FormatNumber(r.rms_px, 3);
-      row.push_back(cell.empty() ? "-" : cell);
-    }
-    rows.push_back(row);
-  }
-  return MarkdownTable(header, rows);
 }
 
 std::string ErrorsCsv(const std::vector<EstimatorEvaluation>& evaluations) {

@@ -76,12 +76,10 @@ EstimatorEvaluation RunAndEvaluate(const std::string& estimator_name,
                                    const Dataset& dataset, const EvaluationOptions& options);
 
 // The report.json object of one estimator: {"quantities": {q: {mean_abs, rmse, unit}}, "ate":
-// {rmse, align, ...}, "runtime_s"} with angles in degrees.
+// {rmse, align, ...}, "runtime_s"}, every value in SI units (angles in radians) with its unit.
 nlohmann::json EvaluationToJson(const EstimatorEvaluation& evaluation);
 
-// report.md table (rows: estimators; columns: per-quantity mean absolute error, ATE rmse, runtime),
 // errors.csv (long format: estimator, quantity, unit, t, estimate, truth, error).
-std::string ComparisonMarkdownTable(const std::vector<EstimatorEvaluation>& evaluations);
 std::string ErrorsCsv(const std::vector<EstimatorEvaluation>& evaluations);
 
 }  // namespace mavloc

@@ -46,7 +46,9 @@ std::string Num(double value, int digits = 3) {
   return std::isfinite(value) ? fmt::format("{:.{}f}", value, digits) : "nan";
 }
 
-StereoStageTimings MeanTimings(const StereoObstacleRun& run) {
+}  // namespace
+
+StereoStageTimings MeanStageTimings(const StereoObstacleRun& run) {
   StereoStageTimings mean;
   if (run.frames.empty()) return mean;
   for (const ObstacleFrame& f : run.frames) {
@@ -64,8 +66,6 @@ StereoStageTimings MeanTimings(const StereoObstacleRun& run) {
   mean.obstacle_check_ms /= n;
   return mean;
 }
-
-}  // namespace
 
 StereoObstacleRun RunStereoObstacleDetection(const Dataset& dataset,
                                              const std::vector<StampedPose>& T_W_B_source,
@@ -237,153 +237,6 @@ std::string ObstacleFramesCsv(const StereoObstacleRun& run,
         f.timings.total_ms, f.timings.obstacle_check_ms);
   }
   return csv;
-}
-
-ReportFiles ObstacleReport(const std::string& dataset_name, const StereoObstacleRun& run,
-                           const std::optional<ObstacleEvaluation>& evaluation) {
-  const StereoPipelineOptions& o = run.options;
-  const DisparityOptions& d = o.disparity;
-  const StereoStageTimings mean = MeanTimings(run);
-  int alerts = 0;
-  for (const ObstacleFrame& f : run.frames) alerts += f.check.alert;
-
-  std::string md = fmt::format("# Stereo obstacle detection: {}\n\n", dataset_name);
-  md += fmt::format(
-      "PIXHAWK paper (Meier et al. 2012) sec. 4: rectification, block matching, eq. (2)-(6), "
-      "alert when a cluster of at least N points lies within the clearance. Pose source: `{}`. "
-      "{} stereo frames processed ({} without a pose, {} with an image missing).\n\n",
-      run.pose_source, run.frames.size(), run.frames_without_pose, run.frames_missing_image);
-  md += "## Settings\n\n";
-  md += MarkdownTable(
-      {"setting", "value"},
-      {{"rectified pair",
-        fmt::format("{} x {} px, f {:.1f} px, baseline {:.4f} m", run.geometry.width_px,
-                    run.geometry.height_px, run.geometry.f_px, run.geometry.baseline_m)},
-       {"matcher",
-        fmt::format("{} (OpenCV), block {} px, {} disparities from {}, uniqueness {} %, "
-                    "texture threshold {}, speckle window {} px / range {} px, "
-                    "left-right check {} px, prefilter cap {}",
-                    d.matcher == StereoMatcherType::kBlockMatching ? "StereoBM" : "StereoSGBM",
-                    d.block_size_px, d.num_disparities, d.min_disparity_px, d.uniqueness_ratio,
-                    d.texture_threshold, d.speckle_window_size, d.speckle_range_px,
-                    d.disp12_max_diff_px, d.pre_filter_cap)},
-       {"eq. (4)",
-        fmt::format("dz {} m, dd {} px: sqrt(b f dd / dz) = {:.3f} px, d_min = {} px", o.delta_z_m,
-                    o.delta_d_px, run.limits.d_min_unrounded_px, run.limits.d_min_px)},
-       {"maximum range b f / d_min",
-        fmt::format("{:.3f} m (without the ceiling: {:.3f} m)", run.limits.max_range_m,
-                    run.limits.max_range_unrounded_m)},
-       {"alert", fmt::format("clearance {} m, cluster of >= {} points (voxels {} m, "
-                             "26-connected), points remembered {} s",
-                             o.alert.clearance_m, o.alert.min_cluster_points, o.alert.voxel_m,
-                             o.alert.memory_s)},
-       {"point cloud pixel stride", std::to_string(o.pixel_stride)}});
-  md += "\n## Timing (the form of the paper's Table 1)\n\n";
-  md += MarkdownTable(
-      {"process", "mean per frame [ms]", "paper, 1.86 GHz Core 2 Duo [ms]"},
-      {{"Image rectification", FormatNumber(mean.rectification_ms, 2), "5"},
-       {"Disparity mapping", FormatNumber(mean.disparity_ms, 2), "29"},
-       {"Point cloud generation", FormatNumber(mean.point_cloud_ms, 2), "1"},
-       {"Total", FormatNumber(mean.total_ms, 2), "35"},
-       {"Obstacle check (not in Table 1)", FormatNumber(mean.obstacle_check_ms, 2), "-"}});
-  md += fmt::format(
-      "\nWall-clock means over {} frames on this machine (OpenCV with {} threads; shared with "
-      "other work, so the numbers vary between runs). Point cloud generation covers eq. (2), (5) "
-      "and (6) for every pixel with d >= d_min. Per-frame values are in frames.csv.\n",
-      run.frames.size(), run.opencv_threads);
-  md += fmt::format("\n## Alerts\n\n{} alerts in {} frames (alerts.csv).\n", alerts,
-                    run.frames.size());
-
-  nlohmann::json json;
-  json["dataset"] = dataset_name;
-  json["pose_source"] = run.pose_source;
-  json["frames"] = run.frames.size();
-  json["frames_without_pose"] = run.frames_without_pose;
-  json["frames_missing_image"] = run.frames_missing_image;
-  json["alert_count"] = alerts;
-  json["timing_ms"] = {{"rectification", mean.rectification_ms},
-                       {"disparity", mean.disparity_ms},
-                       {"point_cloud", mean.point_cloud_ms},
-                       {"total", mean.total_ms},
-                       {"obstacle_check", mean.obstacle_check_ms}};
-  json["d_min_px"] = run.limits.d_min_px;
-  json["max_range_m"] = run.limits.max_range_m;
-  json["max_range_unrounded_m"] = run.limits.max_range_unrounded_m;
-  json["settings"] = {{"matcher", StereoMatcherTypeName(d.matcher)},
-                      {"block_size_px", d.block_size_px},
-                      {"num_disparities", d.num_disparities},
-                      {"uniqueness_ratio", d.uniqueness_ratio},
-                      {"texture_threshold", d.texture_threshold},
-                      {"delta_z_m", o.delta_z_m},
-                      {"delta_d_px", o.delta_d_px},
-                      {"clearance_m", o.alert.clearance_m},
-                      {"min_cluster_points", o.alert.min_cluster_points},
-                      {"voxel_m", o.alert.voxel_m},
-                      {"memory_s", o.alert.memory_s},
-                      {"pixel_stride", o.pixel_stride}};
-
-  if (evaluation) {
-    const ObstacleEvaluation& e = *evaluation;
-    md += "\n## Against the known obstacles\n\n";
-    md += fmt::format(
-        "Truth: the true distance from the vehicle to the nearest obstacle or room surface at each "
-        "frame (ground truth, map.yaml). A frame is positive when it is below the clearance "
-        "({} m).\n\n",
-        e.clearance_m);
-    md += MarkdownTable({"frames", "alerts", "TP", "FP", "FN", "TN", "precision", "recall"},
-                        {{std::to_string(e.frames), std::to_string(e.alerts),
-                          std::to_string(e.true_positive), std::to_string(e.false_positive),
-                          std::to_string(e.false_negative), std::to_string(e.true_negative),
-                          FormatNumber(e.precision, 3), FormatNumber(e.recall, 3)}});
-    md += fmt::format(
-        "\nLargest true distance of a false alert: {}; smallest true distance of a missed frame: "
-        "{} (the clearance is {} m).\n\n",
-        std::isnan(e.false_alert_max_true_distance_m)
-            ? std::string("none")
-            : Num(e.false_alert_max_true_distance_m) + " m",
-        std::isnan(e.missed_min_true_distance_m) ? std::string("none")
-                                                 : Num(e.missed_min_true_distance_m) + " m",
-        e.clearance_m);
-    std::vector<std::vector<std::string>> rows;
-    for (const ObstacleTruth& t : e.obstacles) {
-      rows.push_back({std::to_string(t.index), Num(t.min_distance_m),
-                      t.within_clearance ? "yes" : "no", std::to_string(t.alerts)});
-    }
-    md += MarkdownTable(
-        {"obstacle", "closest approach [m]", "within clearance",
-         fmt::format("alerts attributed (nearest point within {} m)", e.attribution_m)},
-        rows);
-    md += fmt::format("\n{} of {} obstacles that came within the clearance raised an alert.\n",
-                      e.obstacles_alerted, e.obstacles_within_clearance);
-    json["precision"] = JsonNumber(e.precision);
-    json["recall"] = JsonNumber(e.recall);
-    json["true_positive"] = e.true_positive;
-    json["false_positive"] = e.false_positive;
-    json["false_negative"] = e.false_negative;
-    json["true_negative"] = e.true_negative;
-    json["obstacles_within_clearance"] = e.obstacles_within_clearance;
-    json["obstacles_alerted"] = e.obstacles_alerted;
-    nlohmann::json obstacles = nlohmann::json::array();
-    for (const ObstacleTruth& t : e.obstacles) {
-      obstacles.push_back({{"index", t.index},
-                           {"min_distance_m", t.min_distance_m},
-                           {"within_clearance", t.within_clearance},
-                           {"alerts", t.alerts}});
-    }
-    json["obstacles"] = obstacles;
-  } else {
-    md +=
-        "\nThe dataset does not describe its obstacles (no obstacle_count in map.yaml "
-        "parameters), so precision and recall are not computed.\n";
-  }
-
-  ReportFiles files;
-  files.kind = "obstacles";
-  files.markdown = md;
-  files.json = json;
-  files.extra["alerts.csv"] = ObstacleAlertsCsv(run);
-  files.extra["frames.csv"] = ObstacleFramesCsv(run, evaluation);
-  return files;
 }
 
 }  // namespace mavloc

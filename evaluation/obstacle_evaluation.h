@@ -23,7 +23,6 @@
 
 #include "core/dataset.h"
 #include "datasets/rendering/stereo_room_renderer.h"
-#include "evaluation/report_writer.h"
 #include "frontends/stereo/stereo_pipeline.h"
 
 namespace mavloc {
@@ -88,8 +87,7 @@ std::string ObstacleAlertsCsv(const StereoObstacleRun& run);
 // frames.csv: every processed frame with its stage timings (and the true distance when known).
 std::string ObstacleFramesCsv(const StereoObstacleRun& run,
                               const std::optional<ObstacleEvaluation>& evaluation);
-// report.md (Table-1-style timing, settings, alerts, evaluation) and report.json.
-ReportFiles ObstacleReport(const std::string& dataset_name, const StereoObstacleRun& run,
-                           const std::optional<ObstacleEvaluation>& evaluation);
+// The per-frame stage times averaged over the processed frames (zero without frames).
+StereoStageTimings MeanStageTimings(const StereoObstacleRun& run);
 
 }  // namespace mavloc

@@ -16,30 +16,6 @@
 
 namespace mavloc {
 
-Report ReportFromFiles(const ReportFiles& files) {
-  Report report;
-  report.kind = files.kind;
-  // The first "# " line is the title; the rest of the producer's Markdown is one section.
-  std::string body = files.markdown;
-  if (body.rfind("# ", 0) == 0) {
-    const auto end = body.find('\n');
-    report.title = body.substr(2, end == std::string::npos ? std::string::npos : end - 2);
-    body = end == std::string::npos ? "" : body.substr(end + 1);
-  } else {
-    report.title = "mavloc " + files.kind;
-  }
-  while (!body.empty() && body.front() == '\n') body.erase(body.begin());
-  if (!body.empty()) report.sections.push_back({"", body});
-  report.details = files.json.is_object() ? files.json : nlohmann::json::object();
-  report.files = files.extra;
-  report.protocol = files.protocol;
-  return report;
-}
-
-void WriteReportFolder(const std::string& folder, const ReportFiles& files) {
-  WriteReport(folder, ReportFromFiles(files));
-}
-
 std::map<std::string, std::string> ComparisonTrajectoryFiles(
     const Dataset& dataset, const std::vector<EstimatorEvaluation>& evaluations) {
   std::map<std::string, std::string> files;

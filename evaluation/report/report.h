@@ -96,6 +96,9 @@ struct ReportTable {
   struct Column {
     std::string name;
     std::string unit;  // SI unit of the column's numbers; "" for text or counts
+    // The unit people read in report.md ("ms" for "s", "mm" for "m"); "" for the default
+    // (degrees for angles, else the SI unit). report.json keeps SI.
+    std::string display_unit = {};
   };
   std::string name;   // identifier ("table1", "cells")
   std::string title;  // one sentence

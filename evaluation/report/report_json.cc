@@ -47,7 +47,11 @@ nlohmann::json EstimatorToJson(const EstimatorResult& e) {
 
 nlohmann::json TableToJson(const ReportTable& table) {
   nlohmann::json columns = nlohmann::json::array();
-  for (const auto& c : table.columns) columns.push_back({{"name", c.name}, {"unit", c.unit}});
+  for (const auto& c : table.columns) {
+    nlohmann::json column = {{"name", c.name}, {"unit", c.unit}};
+    if (!c.display_unit.empty()) column["display_unit"] = c.display_unit;
+    columns.push_back(column);
+  }
   nlohmann::json rows = nlohmann::json::array();
   for (const auto& row : table.rows) {
     nlohmann::json cells = nlohmann::json::array();

@@ -24,13 +24,14 @@ std::string EscapeCell(const std::string& text) {
   return escaped;
 }
 
-std::string Header(const std::string& name, const std::string& si_unit) {
-  const std::string unit = DisplayUnitFor(si_unit).label;
+std::string Header(const std::string& name, const std::string& si_unit,
+                   const std::string& preferred = "") {
+  const std::string unit = DisplayUnitFor(si_unit, preferred).label;
   return unit.empty() ? name : name + " [" + unit + "]";
 }
 
-std::string Shown(double si_value, const std::string& si_unit) {
-  return TableNumber(si_value * DisplayUnitFor(si_unit).scale);
+std::string Shown(double si_value, const std::string& si_unit, const std::string& preferred = "") {
+  return TableNumber(si_value * DisplayUnitFor(si_unit, preferred).scale);
 }
 
 std::string CoverageCell(const EstimatorResult& e) {
@@ -122,8 +123,8 @@ std::string ParameterTable(const Report& report) {
          MarkdownTableOf({"estimator", "quantity", "value", "sigma", "unit"}, rows);
 }
 
-std::string TableCell(const nlohmann::json& cell, const std::string& unit) {
-  if (cell.is_number()) return Shown(cell.get<double>(), unit);
+std::string TableCell(const nlohmann::json& cell, const ReportTable::Column& column) {
+  if (cell.is_number()) return Shown(cell.get<double>(), column.unit, column.display_unit);
   if (cell.is_string()) return cell.get<std::string>();
   if (cell.is_null()) return "-";
   return cell.dump();
@@ -131,12 +132,12 @@ std::string TableCell(const nlohmann::json& cell, const std::string& unit) {
 
 std::string RenderTable(const ReportTable& table) {
   std::vector<std::string> header;
-  for (const auto& c : table.columns) header.push_back(Header(c.name, c.unit));
+  for (const auto& c : table.columns) header.push_back(Header(c.name, c.unit, c.display_unit));
   std::vector<std::vector<std::string>> rows;
   for (const auto& row : table.rows) {
     std::vector<std::string> cells;
     for (size_t k = 0; k < table.columns.size(); ++k)
-      cells.push_back(k < row.size() ? TableCell(row[k], table.columns[k].unit) : "-");
+      cells.push_back(k < row.size() ? TableCell(row[k], table.columns[k]) : "-");
     rows.push_back(cells);
   }
   return "### " + table.title + "\n\n" + MarkdownTableOf(header, rows);
@@ -157,7 +158,10 @@ std::string ProtocolLine(const Report& report) {
 
 }  // namespace
 
-DisplayUnit DisplayUnitFor(const std::string& si_unit) {
+DisplayUnit DisplayUnitFor(const std::string& si_unit, const std::string& preferred) {
+  if (si_unit == "s" && preferred == "ms") return {"ms", 1e3};
+  if (si_unit == "m" && preferred == "mm") return {"mm", 1e3};
+  if (si_unit == "m" && preferred == "cm") return {"cm", 1e2};
   if (si_unit == "rad") return {"deg", kRadToDeg};
   if (si_unit == "rad/s") return {"deg/s", kRadToDeg};
   return {si_unit, 1.0};

@@ -16,12 +16,14 @@ namespace mavloc {
 std::string MarkdownTableOf(const std::vector<std::string>& header,
                             const std::vector<std::vector<std::string>>& rows);
 
-// The unit a table shows for an SI unit, and the factor from SI to it ("rad" -> "deg").
+// The unit a table shows for an SI unit, and the factor from SI to it: "rad" -> "deg" by default;
+// `preferred` chooses a smaller unit of the same quantity ("ms" for "s", "mm" or "cm" for "m",
+// "deg" for "rad"), and is ignored when it does not measure the same quantity.
 struct DisplayUnit {
   std::string label;
   double scale = 1.0;
 };
-DisplayUnit DisplayUnitFor(const std::string& si_unit);
+DisplayUnit DisplayUnitFor(const std::string& si_unit, const std::string& preferred = "");
 
 // A number for a table: 4 significant digits (fixed for ordinary magnitudes), "-" when not finite.
 std::string TableNumber(double value);

@@ -13,7 +13,6 @@
 #include "evaluation/report/provenance.h"
 #include "evaluation/report/report_folder.h"
 #include "evaluation/report/report_markdown.h"
-#include "evaluation/report_writer.h"
 
 namespace mavloc {
 
@@ -52,7 +51,97 @@ Statistics Summarize(std::vector<double> values) {
   return s;
 }
 
-std::string Number(double value) { return fmt::format("{:.6g}", value); }
+std::string SectionName(const SweepCell& cell) {
+  return cell.scenario + (cell.settings.empty() ? "" : " (" + cell.settings + ")");
+}
+
+nlohmann::json CellJson(const SweepCell& cell) {
+  nlohmann::json j = {{"scenario", cell.scenario},
+                      {"settings", cell.settings},
+                      {"estimator", cell.estimator},
+                      {"runs", cell.runs},
+                      {"ran", cell.ran}};
+  if (!cell.skipped_reasons.empty()) j["skipped"] = cell.skipped_reasons;
+  j["metrics"] = nlohmann::json::object();
+  for (const auto& [metric, samples] : cell.metrics) {
+    const Statistics s = Summarize(samples.values);
+    j["metrics"][metric] = {
+        {"unit", samples.unit}, {"n", samples.values.size()}, {"mean", s.mean}, {"std", s.std},
+        {"min", s.min},         {"median", s.median},         {"max", s.max}};
+  }
+  return j;
+}
+
+// The metrics of one unit, as a table's title names them.
+std::string MetricGroupName(const std::string& unit) {
+  if (unit == "rad") return "angles";
+  if (unit == "rad/s") return "angular rates";
+  if (unit.empty() || unit == "frames") return "counts";
+  return "metrics in " + unit;
+}
+
+// Per scenario and settings combination, one table per unit (every number of a column in one
+// unit): a row per estimator and metric with n, mean, sample std, min, median and max over the
+// seeds where the estimator ran.
+std::vector<ReportTable> CellTables(const std::vector<SweepCell>& cells) {
+  std::vector<ReportTable> tables;
+  std::map<std::string, size_t> table_of;  // section \n unit -> index
+  for (const SweepCell& cell : cells) {
+    const std::string section = SectionName(cell);
+    for (const auto& [metric, samples] : cell.metrics) {
+      auto [it, inserted] = table_of.try_emplace(section + "\n" + samples.unit, tables.size());
+      if (inserted) {
+        ReportTable t;
+        t.name = fmt::format("cells_{}", tables.size() + 1);
+        t.title = fmt::format("{}: {}, statistics over the seeds", section,
+                              MetricGroupName(samples.unit));
+        const std::string unit = samples.unit == "frames" ? "" : samples.unit;
+        const std::string shown = unit == "m" ? "mm" : "";  // sweeps compare mm-level errors
+        for (const char* name : {"estimator", "metric", "n"}) t.columns.push_back({name, ""});
+        for (const char* name : {"mean", "std", "min", "median", "max"})
+          t.columns.push_back({name, unit, shown});
+        tables.push_back(std::move(t));
+      }
+      const Statistics s = Summarize(samples.values);
+      tables[it->second].rows.push_back(
+          {cell.estimator, metric, samples.values.size(), s.mean, s.std, s.min, s.median, s.max});
+    }
+  }
+  return tables;
+}
+
+std::map<std::string, std::string> SweepSettings(const SweepGrid& grid,
+                                                 const std::string& fingerprint) {
+  std::map<std::string, std::string> settings = {
+      {"fingerprint", fingerprint},
+      {"estimators", fmt::format("{}", fmt::join(grid.estimators, ","))}};
+  if (grid.duration_s) settings["duration_s"] = fmt::format("{}", *grid.duration_s);
+  if (!grid.options.empty()) settings["options"] = fmt::format("{}", fmt::join(grid.options, " "));
+  if (!grid.repro.empty()) settings["repro"] = grid.repro;
+  return settings;
+}
+
+ReportProtocol SweepProtocol(const SweepGrid& grid) {
+  ReportProtocol protocol;
+  protocol.alignment = grid.align;
+  protocol.max_dt_s = grid.max_dt_s;
+  return protocol;
+}
+
+std::string GridText(const SweepGrid& grid, const std::string& fingerprint, size_t units) {
+  std::string text = fmt::format(
+      "{} units = {} scenario(s) x {} settings combination(s) x {} seed(s); estimators: {}.\n\n",
+      units, grid.scenarios.size(), units / (grid.scenarios.size() * grid.seeds.size()),
+      grid.seeds.size(), fmt::join(grid.estimators, ", "));
+  text += fmt::format("Grid fingerprint `{}`; seeds {}..{} ({} listed)", fingerprint,
+                      grid.seeds.front(), grid.seeds.back(), grid.seeds.size());
+  if (grid.duration_s) text += fmt::format("; duration {} s", *grid.duration_s);
+  if (!grid.options.empty())
+    text += fmt::format("; estimator options `{}`", fmt::join(grid.options, "`, `"));
+  return text +
+         ".\n\nPer cell (scenario, settings, estimator): statistics over the seeds where the "
+         "estimator ran; std is the sample standard deviation. Per-run numbers (SI): runs.csv.\n";
+}
 
 }  // namespace
 
@@ -108,84 +197,37 @@ std::map<std::string, std::string> BuildSweepReport(const SweepGrid& grid,
     }
   }
 
-  nlohmann::json json;
-  json["report_kind"] = "sweep";
-  json["sweep"] = {{"grid", SweepGridToJson(grid)},
-                   {"fingerprint", fingerprint},
-                   {"units", units.size()},
-                   {"seeds_per_cell", grid.seeds.size()}};
-  json["cells"] = nlohmann::json::array();
-  std::string markdown = "# mavloc sweep\n\n";
-  markdown += fmt::format(
-      "{} units = {} scenario(s) x {} settings combination(s) x {} seed(s); estimators: {}.\n\n",
-      units.size(), grid.scenarios.size(),
-      units.size() / (grid.scenarios.size() * grid.seeds.size()), grid.seeds.size(),
-      fmt::join(grid.estimators, ", "));
-  markdown += fmt::format("Grid fingerprint `{}`; seeds {}..{} ({} listed); ATE alignment `{}`",
-                          fingerprint, grid.seeds.front(), grid.seeds.back(), grid.seeds.size(),
-                          grid.align);
-  if (grid.duration_s) markdown += fmt::format("; duration {} s", *grid.duration_s);
-  if (!grid.options.empty())
-    markdown += fmt::format("; estimator options `{}`", fmt::join(grid.options, "`, `"));
-  markdown +=
-      ".\n\nPer cell (scenario, settings, estimator): statistics over the seeds where the "
-      "estimator ran; std is the sample standard deviation; angles in degrees. Per-run numbers: "
-      "runs.csv.\n";
-  std::string current_section;
-  std::vector<std::vector<std::string>> rows;
-  auto flush = [&] {
-    if (rows.empty()) return;
-    const std::vector<std::string> header = {"estimator", "metric", "unit",   "n",  "mean",
-                                             "std",       "min",    "median", "max"};
-    markdown.push_back('\n');
-    markdown.append(MarkdownTable(header, rows));
-    rows.clear();
-  };
-  for (const SweepCell& cell : cells) {
-    const std::string section =
-        cell.scenario + (cell.settings.empty() ? "" : " (" + cell.settings + ")");
-    if (section != current_section) {
-      flush();
-      markdown += "\n## " + section + "\n";
-      current_section = section;
-    }
-    nlohmann::json j = {{"scenario", cell.scenario},
-                        {"settings", cell.settings},
-                        {"estimator", cell.estimator},
-                        {"runs", cell.runs},
-                        {"ran", cell.ran}};
-    if (!cell.skipped_reasons.empty()) j["skipped"] = cell.skipped_reasons;
-    j["metrics"] = nlohmann::json::object();
-    if (cell.ran < cell.runs)
-      rows.push_back(
-          {cell.estimator, fmt::format("did not run in {} of {}", cell.runs - cell.ran, cell.runs),
-           "", "", "", "", "", "", fmt::format("{}", fmt::join(cell.skipped_reasons, "; "))});
-    for (const auto& [metric, samples] : cell.metrics) {
-      const Statistics s = Summarize(samples.values);
-      j["metrics"][metric] = {
-          {"unit", samples.unit}, {"n", samples.values.size()}, {"mean", s.mean}, {"std", s.std},
-          {"min", s.min},         {"median", s.median},         {"max", s.max}};
-      rows.push_back({cell.estimator, metric, samples.unit, std::to_string(samples.values.size()),
-                      Number(s.mean), Number(s.std), Number(s.min), Number(s.median),
-                      Number(s.max)});
-    }
-    json["cells"].push_back(j);
-  }
-  flush();
-  json["runs"] = units;
-  // One report model and writer for every command (evaluation/report/): the cells and runs are
-  // the sweep's details, the tables above its section.
-  ReportFiles files;
-  files.kind = "sweep";
-  files.markdown = markdown;
-  files.json = json;
-  Report report = ReportFromFiles(files);
+  Report report;
+  report.kind = "sweep";
+  report.title = "mavloc sweep";
+  report.provenance.input = fmt::format("{}", fmt::join(grid.scenarios, ", "));
   report.provenance.seeds = grid.seeds;
   report.provenance.runs = static_cast<int>(units.size());
-  const std::string json_text = ReportJsonText(report);
+  report.provenance.settings = SweepSettings(grid, fingerprint);
+  report.protocol = SweepProtocol(grid);
+  report.sections.push_back({"Grid", GridText(grid, fingerprint, units.size()), true});
+  report.details["sweep"] = {{"grid", SweepGridToJson(grid)},
+                             {"fingerprint", fingerprint},
+                             {"units", units.size()},
+                             {"seeds_per_cell", grid.seeds.size()}};
+  report.details["cells"] = nlohmann::json::array();
+  for (const SweepCell& cell : cells) {
+    report.details["cells"].push_back(CellJson(cell));
+    if (cell.ran < cell.runs)
+      report.warnings.push_back(fmt::format("{}: {} did not run in {} of {} seeds: {}",
+                                            SectionName(cell), cell.estimator, cell.runs - cell.ran,
+                                            cell.runs, fmt::join(cell.skipped_reasons, "; ")));
+  }
+  report.tables = CellTables(cells);
+  report.details["runs"] = units;
+  report.files["runs.csv"] = csv;
+  // One report for a serial run and a merge of shards: the files but report.json's provenance
+  // (the command line, the elapsed time) are the same bytes.
+  std::map<std::string, std::string> files = report.files;
+  files["report.json"] = ReportJsonText(report);
   report.provenance = WithInvocation(report.provenance);
-  return {
-      {"report.md", RenderReportMarkdown(report)}, {"report.json", json_text}, {"runs.csv", csv}};
+  files["report.md"] = RenderReportMarkdown(report);
+  return files;
 }
 
 void WriteSweepReport(const std::string& folder, const std::map<std::string, std::string>& files) {

@@ -3,13 +3,16 @@
 // both are the same bytes:
 //   runs.csv    one row per unit x estimator x metric (long format: unit, scenario, settings,
 //               seed, estimator, ran, metric, unit, value; values in shortest round-trip text)
-//   report.json {"sweep": {grid, fingerprint, units}, "cells": [...], "runs": [unit results]}
-//   report.md   the grid, then per scenario and settings combination one table: estimator x
-//               metric with n, mean, sample standard deviation, min, median, max over the seeds
+//   report.json the one report schema (evaluation/report/report.h): provenance (seeds, runs, the
+//               grid's fingerprint), protocol (alignment, tolerance), one table per scenario,
+//               settings combination and unit (a row per estimator and metric: n, mean, sample
+//               standard deviation, min, median, max over the seeds), and details {"sweep": {grid,
+//               fingerprint, units}, "cells": [...], "runs": [unit results]}; values in SI
+//   report.md   the grid, then those tables (angles in degrees); an estimator that did not run in
+//               some seeds is a warning
 // A cell is (scenario, settings combination, estimator); its statistics are over the seeds where
 // the estimator ran (a metric missing in a run, e.g. NaN, is left out of that metric's n).
-// No figures: the repro figure script (evaluation/report_figures.h) reads the reproductions'
-// "tables" layout, not this one, and PNG bytes would break the byte-identical merge.
+// Figures are drawn afterwards from the folder (`mavloc figures`), outside the merged bytes.
 #pragma once
 
 #include <map>

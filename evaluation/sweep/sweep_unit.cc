@@ -98,9 +98,9 @@ nlohmann::json RunSweepUnit(const SweepGrid& grid, size_t index) {
     row["units"] = nlohmann::json::object();
     if (evaluation.ate) {
       AddMetric(row, "ate_rmse", evaluation.ate->translation_m.rmse, "m");
-      AddMetric(row, "ate_rotation_rmse", evaluation.ate->rotation_rad.rmse * 180.0 / M_PI, "deg");
+      AddMetric(row, "ate_rotation_rmse", evaluation.ate->rotation_rad.rmse, "rad");
     }
-    // The per-quantity numbers exactly as `compare` reports them (angles in degrees).
+    // The per-quantity numbers exactly as `compare` reports them (SI: angles in radians).
     const nlohmann::json reported = EvaluationToJson(evaluation);
     if (reported.contains("quantities"))
       for (const auto& [quantity, stats] : reported["quantities"].items()) {

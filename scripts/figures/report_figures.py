@@ -1562,6 +1562,42 @@ def matrix_figures(out, folder):
                     if any_log else "") + ".")
 
 
+def sweep_figures(out, folder):
+    """A sweep's runs.csv: the ATE translation and rotation RMSE of every seed, one group per
+    scenario and settings combination, estimators side by side (boxes over the seeds)."""
+    header, rows = read_csv(os.path.join(folder, "runs.csv"))
+    col = {h: i for i, h in enumerate(header)}
+    if not rows or not all(h in col for h in ("scenario", "settings", "estimator", "metric",
+                                               "value")):
+        return
+    metrics = (("ate_rmse", "ATE RMSE [m]", 1.0),
+               ("ate_rotation_rmse", "rotation RMSE [deg]", 180.0 / math.pi))
+    labels, groups, data = [], [], {}
+    for r in rows:
+        metric = r[col["metric"]]
+        k = next((i for i, m in enumerate(metrics) if m[0] == metric), None)
+        if k is None:
+            continue
+        label = r[col["estimator"]]
+        settings = r[col["settings"]]
+        group = r[col["scenario"]] + (f" ({settings})" if settings else "")
+        if label not in labels:
+            labels.append(label)
+        if group not in groups:
+            groups.append(group)
+        series = data.setdefault((label, group), tuple([] for _ in metrics))
+        series[k].append(to_float(r[col["value"]]) * metrics[k][2])
+    if not data:
+        return
+    grouped_boxplots(out, labels, estimator_colors(labels), groups, data,
+                     [m[1] for m in metrics], "sweep_ate_boxplots.png",
+                     "ATE over the seeds of each scenario and settings combination",
+                     "ATE translation RMSE and rotation RMSE (the angle of the rotation error) of "
+                     "each seed, one box per estimator (the same color in every group; quartiles, "
+                     "whiskers 1.5 IQR), per scenario and settings combination (runs.csv).",
+                     groups, "scenario (settings)")
+
+
 def detect_kind(folder):
     """The report_kind its report.json (or eval.json) declares; "unknown" otherwise."""
     for name in ("report.json", "eval.json"):
@@ -1641,7 +1677,7 @@ def main():
     kind = args.kind or detect_kind(args.report_dir)
     out = Figures(args.report_dir)
     {"eval": eval_figures, "compare": compare_figures, "repro": repro_figures,
-     "matrix": matrix_figures, "imu-noise": imu_noise_figures}.get(
+     "matrix": matrix_figures, "imu-noise": imu_noise_figures, "sweep": sweep_figures}.get(
         kind, lambda *_: None)(out, args.report_dir)
     if not out.written:
         print(f"report_figures: {args.report_dir} ({kind}): nothing to plot", file=sys.stderr)

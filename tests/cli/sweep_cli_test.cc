@@ -32,11 +32,17 @@ std::string Read(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-// The same bytes in report.md and runs.csv, and the same report.json but its provenance (the
-// command line and the elapsed time differ between a serial run and a merge of shards).
+// The same bytes in report.md (up to its figure section, which names the folder) and runs.csv,
+// and the same report.json but its provenance (the command line and the elapsed time differ
+// between a serial run and a merge of shards).
+std::string BeforeFigures(const std::string& markdown) {
+  return markdown.substr(0, markdown.find("<!-- mavloc:figures -->"));
+}
+
 void ExpectSameReport(const std::string& a, const std::string& b) {
   for (const char* name : {"report.md", "runs.csv"}) {
-    const std::string left = Read(a + "/" + name), right = Read(b + "/" + name);
+    const std::string left = BeforeFigures(Read(a + "/" + name));
+    const std::string right = BeforeFigures(Read(b + "/" + name));
     EXPECT_FALSE(left.empty()) << a << "/" << name;
     EXPECT_TRUE(left == right) << name << " differs between " << a << " and " << b;
   }
@@ -110,8 +116,15 @@ TEST_F(SweepCli, ReportHoldsEveryRunAndCellStatistics) {
   EXPECT_EQ(csv.rfind("unit,scenario,settings,seed,estimator,ran,metric,unit,value\n", 0), 0u);
   EXPECT_NE(csv.find("\n5,tag-arena-hover,corner_noise_px=1,3,smoother,1,ate_rmse,m,"),
             std::string::npos);
-  EXPECT_NE(Read(P("serial/report.md")).find("## tag-arena-hover (corner_noise_px=1)"),
-            std::string::npos);
+  // report.md: one table per scenario, settings and unit; angles shown in degrees.
+  const std::string md = Read(P("serial/report.md"));
+  EXPECT_NE(md.find("### tag-arena-hover (corner_noise_px=1): metrics in m,"), std::string::npos);
+  EXPECT_NE(md.find("### tag-arena-hover (corner_noise_px=1): angles,"), std::string::npos);
+  EXPECT_NE(md.find("| mean [mm] |"), std::string::npos);
+  EXPECT_NE(md.find("| mean [deg] |"), std::string::npos);
+  // report.json: the rotation metric in radians, its table's columns in rad.
+  EXPECT_EQ(report["cells"][0]["metrics"]["ate_rotation_rmse"]["unit"], "rad");
+  EXPECT_EQ(report["runs"][0]["estimators"][0]["units"]["ate_rotation_rmse"], "rad");
 }
 
 TEST_F(SweepCli, TwoJobsGiveTheSerialBytes) {

@@ -29,7 +29,8 @@ TEST(Comparison, DeadReckoningOnTheDefaultScenario) {
   EXPECT_LT(std::abs(x.error[0]), 1e-9);
   const auto json = EvaluationToJson(e);
   EXPECT_TRUE(json.contains("quantities"));
-  EXPECT_EQ(json["quantities"]["roll"]["unit"], "deg");
+  EXPECT_EQ(json["quantities"]["roll"]["unit"], "rad");  // report.json is SI
+  EXPECT_DOUBLE_EQ(json["quantities"]["roll"]["rmse"].get<double>(), e.quantity_errors[3].rmse);
   EXPECT_EQ(json["ate"]["align"], "none");
   EXPECT_GE(json["runtime_s"].get<double>(), 0.0);
 }

@@ -232,6 +232,10 @@ TEST(SlurmSweep, JobArrayAndMergeJobGiveTheLocalBytes) {
       merged = m.dump();
       local = l.dump();
     }
+    if (std::string(name) == "report.md") {  // the figures note names each report's own folder
+      merged = merged.substr(0, merged.find("<!-- mavloc:figures -->"));
+      local = local.substr(0, local.find("<!-- mavloc:figures -->"));
+    }
     EXPECT_TRUE(merged == local) << name << " differs\n" << logs;
   }
   const auto status = RunCommand(CliPath() + " sweep-status " + dir + "/results");
