@@ -195,7 +195,7 @@ CrlbReport MakeCrlbReport(const Dataset& dataset,
     ej[e.estimator] = {{"bound", smoother ? "smoothing" : "filtering"},
                        {"position_bound_rms_m", s.PositionBoundRms()},
                        {"position_rmse_over_bound", s.PositionRatio()},
-                       {"attitude_bound_rms_deg", s.AttitudeBoundRms() / kDeg},
+                       {"attitude_bound_rms_rad", s.AttitudeBoundRms()},
                        {"attitude_rmse_over_bound", s.AttitudeRatio()},
                        {"keyframes", s.frames}};
   }

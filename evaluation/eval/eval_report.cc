@@ -14,6 +14,24 @@ namespace mavloc {
 
 namespace {
 
+nlohmann::json StatsJsonOf(const ErrorStatistics& s) {
+  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std},
+          {"min", s.min},   {"max", s.max},   {"sse", s.sse},       {"count", s.count}};
+}
+
+constexpr double kRadPerDeg = M_PI / 180.0;
+
+// The evo-exact engine states rotation errors in degrees, as evo does; report.json holds radians.
+ErrorStatistics DegreesToRadians(ErrorStatistics s) {
+  for (double* v : {&s.rmse, &s.mean, &s.median, &s.std, &s.min, &s.max}) *v *= kRadPerDeg;
+  s.sse *= kRadPerDeg * kRadPerDeg;
+  return s;
+}
+
+nlohmann::json AngleStatsJson(const ErrorStatistics& degrees) {
+  return StatsJsonOf(DegreesToRadians(degrees));
+}
+
 struct RunAggregate {
   double mean = 0.0;
   double std = 0.0;  // sample standard deviation (n - 1); 0 for one run
@@ -91,11 +109,6 @@ void PooledRelative(const TrajectoryEvaluation& e, double* translation_pct,
   }
   *translation_pct = RunMean(t);
   *rotation_deg_m = RunMean(r);
-}
-
-nlohmann::json StatsJson(const ErrorStatistics& s) {
-  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std},
-          {"min", s.min},   {"max", s.max},   {"sse", s.sse},       {"count", s.count}};
 }
 
 std::string AssociationText(const EvaluationProtocol& p, bool any_by_index) {
@@ -202,7 +215,8 @@ EvalTable BuildTable(const EvalReport& report) {
         }
       columns.resize(metrics.size());
       for (size_t k = 0; k < metrics.size() && k < columns.size(); ++k)
-        if (std::isfinite(metrics[k].value)) columns[k].push_back(metrics[k].value);
+        if (std::isfinite(metrics[k].value))
+          columns[k].push_back(metrics[k].value * metrics[k].display_scale);
     }
     std::vector<RunAggregate> row;
     for (const auto& c : columns) row.push_back(SummariseRuns(c));
@@ -274,21 +288,24 @@ std::vector<MetricValue> RunMetrics(const EvalRun& run, const EvaluationProtocol
                      RelationUnit(protocol.ape_relation) + "]",
                  RelationStats(e, protocol.ape_relation).rmse});
   m.push_back({"ape_translation_rmse_m", "APE trans. RMSE [m]", e.ape_translation_m.rmse});
-  m.push_back({"ape_rotation_rmse_deg", "APE rot. RMSE [deg]", e.ape_rotation_deg.rmse});
+  m.push_back({"ape_rotation_rmse_rad", "APE rot. RMSE [deg]", e.ape_rotation_deg.rmse * kRadPerDeg,
+               1.0 / kRadPerDeg});
   for (size_t k = 0; k < protocol.rpe_deltas.size(); ++k) {
     const std::string title = RpeTitle(protocol.rpe_deltas[k]);
     const bool has = k < e.rpe.size();
     m.push_back({fmt::format("rpe{}_translation_rmse_m", k), "RPE " + title + " trans. RMSE [m]",
                  has ? e.rpe[k].translation_m.rmse : std::nan("")});
-    m.push_back({fmt::format("rpe{}_rotation_rmse_deg", k), "RPE " + title + " rot. RMSE [deg]",
-                 has ? e.rpe[k].rotation_deg.rmse : std::nan("")});
+    m.push_back({fmt::format("rpe{}_rotation_rmse_rad", k), "RPE " + title + " rot. RMSE [deg]",
+                 has ? e.rpe[k].rotation_deg.rmse * kRadPerDeg : std::nan(""), 1.0 / kRadPerDeg});
   }
   double t_pct = 0.0, r_deg_m = 0.0;
   PooledRelative(e, &t_pct, &r_deg_m);
   m.push_back({"relative_translation_pct", "rel. trans. [%]", t_pct});
-  m.push_back({"relative_rotation_deg_per_m", "rel. rot. [deg/m]", r_deg_m});
-  m.push_back({"yaw_drift_deg_per_m", "yaw drift [deg/m]",
-               e.yaw_drift.valid ? e.yaw_drift.rate_deg_per_m : std::nan("")});
+  m.push_back(
+      {"relative_rotation_rad_per_m", "rel. rot. [deg/m]", r_deg_m * kRadPerDeg, 1.0 / kRadPerDeg});
+  m.push_back({"yaw_drift_rad_per_m", "yaw drift [deg/m]",
+               e.yaw_drift.valid ? e.yaw_drift.rate_deg_per_m * kRadPerDeg : std::nan(""),
+               1.0 / kRadPerDeg});
   if (protocol.alignment == AlignmentMode::kSim3)
     m.push_back({"sim3_scale", "Sim3 scale", e.alignment.scale});
   return m;
@@ -436,33 +453,34 @@ nlohmann::json EvalJson(const EvalReport& report) {
           {"R",
            {{R(0, 0), R(0, 1), R(0, 2)}, {R(1, 0), R(1, 1), R(1, 2)}, {R(2, 0), R(2, 1), R(2, 2)}}},
           {"t", {ev.alignment.t.x(), ev.alignment.t.y(), ev.alignment.t.z()}}};
-      r["ape"] = {{"translation_m", StatsJson(ev.ape_translation_m)},
-                  {"rotation_deg", StatsJson(ev.ape_rotation_deg)},
-                  {"rotation_part", StatsJson(ev.ape_rotation_part)},
-                  {"full", StatsJson(ev.ape_full)}};
+      r["ape"] = {{"translation_m", StatsJsonOf(ev.ape_translation_m)},
+                  {"rotation_rad", AngleStatsJson(ev.ape_rotation_deg)},
+                  {"rotation_part", StatsJsonOf(ev.ape_rotation_part)},
+                  {"full", StatsJsonOf(ev.ape_full)}};
       r["rpe"] = nlohmann::json::array();
       for (const auto& rpe : ev.rpe)
         r["rpe"].push_back({{"delta", rpe.delta.delta},
                             {"unit", DeltaUnitName(rpe.delta.unit)},
                             {"all_pairs", rpe.delta.all_pairs},
-                            {"translation_m", StatsJson(rpe.translation_m)},
-                            {"rotation_deg", StatsJson(rpe.rotation_deg)},
-                            {"rotation_part", StatsJson(rpe.rotation_part)},
-                            {"full", StatsJson(rpe.full)}});
+                            {"translation_m", StatsJsonOf(rpe.translation_m)},
+                            {"rotation_rad", AngleStatsJson(rpe.rotation_deg)},
+                            {"rotation_part", StatsJsonOf(rpe.rotation_part)},
+                            {"full", StatsJsonOf(rpe.full)}});
       r["relative"] = nlohmann::json::array();
       for (const auto& rel : ev.relative)
-        r["relative"].push_back({{"length_m", rel.length_m},
-                                 {"segments", rel.count()},
-                                 {"translation_m", StatsJson(rel.translation_m_stats)},
-                                 {"translation_percent", StatsJson(rel.translation_percent_stats)},
-                                 {"rotation_deg", StatsJson(rel.rotation_deg_stats)},
-                                 {"rotation_deg_per_m", StatsJson(rel.rotation_deg_per_m_stats)},
-                                 {"yaw_deg", StatsJson(rel.yaw_deg_stats)},
-                                 {"tilt_deg", StatsJson(rel.tilt_deg_stats)}});
+        r["relative"].push_back(
+            {{"length_m", rel.length_m},
+             {"segments", rel.count()},
+             {"translation_m", StatsJsonOf(rel.translation_m_stats)},
+             {"translation_percent", StatsJsonOf(rel.translation_percent_stats)},
+             {"rotation_rad", AngleStatsJson(rel.rotation_deg_stats)},
+             {"rotation_rad_per_m", AngleStatsJson(rel.rotation_deg_per_m_stats)},
+             {"yaw_rad", AngleStatsJson(rel.yaw_deg_stats)},
+             {"tilt_rad", AngleStatsJson(rel.tilt_deg_stats)}});
       r["yaw_drift"] = {{"valid", ev.yaw_drift.valid},
-                        {"deg_per_m", ev.yaw_drift.rate_deg_per_m},
-                        {"deg_per_s", ev.yaw_drift.rate_deg_per_s},
-                        {"final_deg", ev.yaw_drift.final_deg}};
+                        {"rad_per_m", ev.yaw_drift.rate_deg_per_m * kRadPerDeg},
+                        {"rad_per_s", ev.yaw_drift.rate_deg_per_s * kRadPerDeg},
+                        {"final_rad", ev.yaw_drift.final_deg * kRadPerDeg}};
       r["diagnostics"] = ev.diagnostics.Messages();
       nlohmann::json metrics;
       for (const auto& m : RunMetrics(run, report.protocol)) {
@@ -487,22 +505,16 @@ nlohmann::json EvalJson(const EvalReport& report) {
     const TrajectoryEvaluation& ev = report.estimates[0].runs[0].evaluation;
     j["pairs"] = ev.pair_count;
     j["align"] = AlignmentModeName(p.alignment);
-    j["ate"] = StatsJson(ev.ape_translation_m);
+    j["ate"] = StatsJsonOf(ev.ape_translation_m);
     j["ate"]["unit"] = "m";
-    j["ate_rotation"] = StatsJson(ev.ape_rotation_deg);
-    j["ate_rotation"]["unit"] = "deg";
+    j["ate_rotation"] = AngleStatsJson(ev.ape_rotation_deg);
+    j["ate_rotation"]["unit"] = "rad";
   }
   j["protocol_lines"] = ProtocolLines(report);
   return j;
 }
 
 namespace {
-
-ErrorStatistics DegreesToRadians(ErrorStatistics s) {
-  for (double* v : {&s.rmse, &s.mean, &s.median, &s.std, &s.min, &s.max}) *v *= M_PI / 180.0;
-  s.sse *= (M_PI / 180.0) * (M_PI / 180.0);
-  return s;
-}
 
 // One estimator result per run: the ATE and RPE of the one trajectory-error engine in SI units,
 // the coverage of the run's estimate, its diagnostics as warnings.

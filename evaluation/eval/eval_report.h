@@ -22,11 +22,13 @@
 
 namespace mavloc {
 
-// The metrics of the table, per run (name, unit, value); the same list for every run.
+// The metrics of the table, per run; the same list for every run. `value` is SI (the json key
+// names its unit); the tables show value * display_scale under `title` (degrees for angles).
 struct MetricValue {
-  std::string key;    // json key, e.g. "ape_translation_rmse_m"
-  std::string title;  // table header, e.g. "APE trans. RMSE [m]"
+  std::string key;    // json key, e.g. "ape_rotation_rmse_rad"
+  std::string title;  // table header, e.g. "APE rot. RMSE [deg]"
   double value = 0.0;
+  double display_scale = 1.0;
 };
 std::vector<MetricValue> RunMetrics(const EvalRun& run, const EvaluationProtocol& protocol);
 

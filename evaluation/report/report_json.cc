@@ -1,7 +1,5 @@
 #include "evaluation/report/report_json.h"
 
-#include "evaluation/report/si_details.h"
-
 #include <cmath>
 
 namespace mavloc {
@@ -107,8 +105,7 @@ nlohmann::json ReportToJson(const Report& report) {
   nlohmann::json files = nlohmann::json::array();
   for (const auto& [name, contents] : report.files) files.push_back(name);
   j["files"] = files;
-  j["details"] =
-      report.details.is_object() ? DetailsInSi(report.details) : nlohmann::json::object();
+  j["details"] = report.details.is_object() ? report.details : nlohmann::json::object();
   return j;
 }
 

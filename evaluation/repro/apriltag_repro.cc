@@ -190,11 +190,11 @@ nlohmann::json ImageStatsJson(const ImageStats& s, bool from_images) {
       {"false_detections", s.false_detections},
       {"corner_error_px", s.corner_px.Json()},
       {"tag_pose_position_error_m", s.pose_position_m.Json()},
-      {"tag_pose_angle_error_deg",
-       {{"mean", s.pose_angle_rad.Mean() * 180.0 / M_PI},
-        {"max", s.pose_angle_rad.count ? s.pose_angle_rad.max * 180.0 / M_PI : kNaN}}},
-      {"render_ms_per_frame", s.frames ? 1e3 * s.render_s / s.frames : kNaN},
-      {"detect_ms_per_frame", s.frames ? 1e3 * s.detect_s / s.frames : kNaN},
+      {"tag_pose_angle_error_rad",
+       {{"mean", s.pose_angle_rad.Mean()},
+        {"max", s.pose_angle_rad.count ? s.pose_angle_rad.max : kNaN}}},
+      {"render_s_per_frame", s.frames ? s.render_s / s.frames : kNaN},
+      {"detect_s_per_frame", s.frames ? s.detect_s / s.frames : kNaN},
   };
 }
 

@@ -458,7 +458,7 @@ std::string Why(const ScenarioResult& s, const RowResult& other, const WinCount&
   if (reasons.empty())
     reasons.push_back(
         "no known cause; the per-run numbers are in report.json (per_run_position_rmse_m, "
-        "per_run_attitude_rmse_deg, quantity_rmse.*.per_run_rmse, per_run)");
+        "per_run_attitude_rmse_rad, quantity_rmse.*.per_run_rmse, per_run)");
   return Join(reasons, "; ");
 }
 

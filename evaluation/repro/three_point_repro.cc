@@ -289,12 +289,14 @@ nlohmann::json StatsToJson(const VariantStats& stats, const std::array<double, 6
     const auto it = stats.quantities.find(kColumns[c]);
     if (it == stats.quantities.end()) continue;
     const ErrorStat& s = it->second;
-    nlohmann::json q = {{"mean_abs", s.Mean()},
-                        {"rmse", s.Rms()},
-                        {"std_over_runs", s.RunStd()},
+    // Angles in rad (the statistics and the paper's Table I are in deg), positions in %.
+    const double to_si = IsPosition(kColumns[c]) ? 1.0 : kDeg;
+    nlohmann::json q = {{"mean_abs", s.Mean() * to_si},
+                        {"rmse", s.Rms() * to_si},
+                        {"std_over_runs", s.RunStd() * to_si},
                         {"count", s.count},
-                        {"unit", ThreePointUnit(kColumns[c])}};
-    if (paper != nullptr) q["paper"] = (*paper)[c];
+                        {"unit", IsPosition(kColumns[c]) ? "%" : "rad"}};
+    if (paper != nullptr) q["paper"] = (*paper)[c] * to_si;
     quantities[kColumns[c]] = q;
   }
   nlohmann::json j = {{"quantities", quantities}, {"runtime_s", stats.runtime_s}};
@@ -512,7 +514,7 @@ nlohmann::json ThreePointSensitivityJson(const std::vector<ThreePointGridRow>& g
   for (const auto& row : grid) {
     const ThreePointConfig& config = *row.config;
     nlohmann::json r = {
-        {"bearing_noise_deg", config.noise_deg},
+        {"bearing_noise_rad", config.noise_deg * kDeg},
         {"height_m", config.height_m},
         {"accel_bias_sigma_m_s2",
          config.accel_bias_m_s2 ? *config.accel_bias_m_s2
@@ -568,8 +570,8 @@ Report SummarizeThreePoint(const ReproRuns& runs) {
   t1["estimators"]["two-point"] = StatsToJson(table1.at("two-point"), &kPaper2p);
   t1["estimators"]["gravity-ekf"] = StatsToJson(table1.at("gravity-ekf"), nullptr);
   t1["first_order_three_point"] = {
-      {"roll_sigma_deg", first_order.sigma_deg.x()},
-      {"pitch_sigma_deg", first_order.sigma_deg.y()},
+      {"roll_sigma_rad", first_order.sigma_deg.x() * kDeg},
+      {"pitch_sigma_rad", first_order.sigma_deg.y() * kDeg},
       {"smallest_singular_value_of_jacobian", first_order.smallest_singular_value}};
   report.details["tables"] = {{"table1", t1},
                               {"sensitivity", ThreePointSensitivityJson(grid, plan)}};

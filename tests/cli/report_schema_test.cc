@@ -60,17 +60,28 @@ void ExpectWellFormedTables(const std::string& markdown, const std::string& labe
   }
 }
 
-// Values in report.json are SI: no number under a key ending in a display unit, no "unit" that
-// is one, anywhere in the report (details included).
+// True when one of the '_'-separated words of `key` is a display unit (yaw_deg, deg_per_m,
+// render_ms_per_frame, position_rmse_cm).
+bool NamesDisplayUnit(const std::string& key) {
+  size_t begin = 0;
+  while (begin <= key.size()) {
+    const size_t end = std::min(key.find('_', begin), key.size());
+    const std::string word = key.substr(begin, end - begin);
+    if (word == "deg" || word == "mm" || word == "cm" || word == "ms") return true;
+    begin = end + 1;
+  }
+  return false;
+}
+
+// Values in report.json are SI: no number under a key that names a display unit, no "unit" that
+// is one, anywhere in the report (details included). Echoed settings are text and may keep their
+// names ("bearing_noise_deg": "0.5").
 void ExpectSiOnly(const nlohmann::json& j, const std::string& path, const std::string& label) {
   if (!j.is_object() && !j.is_array()) return;
   for (const auto& [key, value] : j.items()) {
-    for (const std::string suffix : {"_deg", "_mm", "_cm", "_ms", "_deg_s", "_deg_per_m"}) {
-      if (j.is_object() && key.size() > suffix.size() &&
-          key.compare(key.size() - suffix.size(), suffix.size(), suffix) == 0)
-        EXPECT_FALSE(value.is_number() || value.is_array() || value.is_object())
-            << label << ": " << path << "/" << key;
-    }
+    if (j.is_object() && NamesDisplayUnit(key))
+      EXPECT_FALSE(value.is_number() || value.is_array() || value.is_object())
+          << label << ": " << path << "/" << key;
     if (j.is_object() && key == "unit" && value.is_string())
       for (const char* display : {"deg", "mm", "cm", "ms", "deg/s"})
         EXPECT_NE(value.get<std::string>(), display) << label << ": " << path;

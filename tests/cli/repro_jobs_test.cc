@@ -27,9 +27,8 @@ std::string Read(const std::string& path) {
 }
 
 bool IsWallTime(const std::string& key) {
-  return key.find("runtime") != std::string::npos ||
-         key.find("ms_per_frame") != std::string::npos || key == "elapsed_s" || key == "jobs" ||
-         key == "cramer_rao_compute_s" || key == "command";
+  return key.find("runtime") != std::string::npos || key.find("s_per_frame") != std::string::npos ||
+         key == "elapsed_s" || key == "jobs" || key == "cramer_rao_compute_s" || key == "command";
 }
 
 // The report without its wall-clock fields (run times, times per frame, the bound's compute time,
