@@ -75,6 +75,7 @@ const std::map<std::string, OptionRange>& OptionRanges() {
       {"refine_sigma_rad", {0.0, kUnbounded, true, "rad"}},
       {"refine_loss_px", {0.0, limits::kMaxPixelCoordinate, true, "px"}},
       {"refine_gate_px", {0.0, limits::kMaxPixelCoordinate, true, "px"}},
+      {"neighbour_gate_m", {0.0, kUnbounded, false, "m"}},
       {"reacquire_vel_sigma", {0.0, kUnbounded, true, "m/s"}},
       {"reacquire_att_sigma", {0.0, kUnbounded, true, "rad"}},
       {"position_sigma_m", {0.0, kUnbounded, false, "m"}},
@@ -98,6 +99,7 @@ const std::map<std::string, OptionRange>& OptionRanges() {
       {"gravity_min_tags", {1.0, kUnbounded, false, ""}},
       {"reacquire_frames", {2.0, kUnbounded, false, ""}},
       {"ransac_min_tags", {1.0, kUnbounded, false, ""}},
+      {"neighbour_frames", {2.0, kUnbounded, false, ""}},
       {"init_seed", {0.0, kUnbounded, false, ""}},
       {"attitude_error_seed", {0.0, kUnbounded, false, ""}},
   };
@@ -176,6 +178,8 @@ const std::set<std::string> kCornerRansac = {"ransac",     "ransac_threshold_px"
 // Tag map refinement (ParseTagMapRefineOptions, solver/pose/tag_map_refine.cc).
 const std::set<std::string> kTagMapRefine = {"refine_map",  "refine_sigma_m", "refine_sigma_rad",
                                              "refine_loss", "refine_loss_px", "refine_gate_px"};
+// Check across frames (ParseNeighbourGateOptions, solver/pose/neighbour_gate.cc).
+const std::set<std::string> kNeighbourGate = {"neighbour_gate_m", "neighbour_frames"};
 // Roll/pitch source (ParseRollPitchSourceOptions, solver/pixhawk/roll_pitch_source.cc).
 const std::set<std::string> kRollPitchSource = {"attitude", "attitude_error_deg",
                                                 "attitude_error_tau_s", "attitude_error_seed",
@@ -224,7 +228,7 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
            "normal_random_walk", "gate_sigmas", "bias_from_ground_truth", "lever_arm"}),
       Entry<TagPnpEstimator>(
           "tag-pnp", "AprilTag paper III-A baseline: vision-only PnP on the tags (+ RANSAC)",
-          Keys({kBoardInit, kCornerRansac, kTagMapRefine, {"camera"}})),
+          Keys({kBoardInit, kCornerRansac, kTagMapRefine, kNeighbourGate, {"camera"}})),
       ImuEntry<TagEkfEstimator>(
           "tag-ekf", "AprilTag paper II-III: 15-state EKF, per-tag updates, delay handling",
           Keys({kBoardInit,

@@ -1,6 +1,7 @@
 #include "solver/estimators/tag_pnp_estimator.h"
 
 #include "solver/pose/corner_pnp_ransac.h"
+#include "solver/pose/neighbour_gate.h"
 #include "solver/pose/tag_map_check.h"
 #include "solver/pose/tags_camera.h"
 
@@ -11,7 +12,8 @@ TagPnpEstimator::TagPnpEstimator(const EstimatorOptions& options)
       board_(ParseBoardInitOptions(options)),
       ransac_(ParseCornerRansacOptions(options)),
       map_check_(ParseTagMapCheckOptions(options)),
-      refine_(ParseTagMapRefineOptions(options)) {}
+      refine_(ParseTagMapRefineOptions(options)),
+      neighbour_gate_(ParseNeighbourGateOptions(options)) {}
 
 Applicability TagPnpEstimator::AppliesTo(const Dataset& dataset) const {
   if (dataset.tags.empty()) return Applicability::No("needs tags0 observations");
@@ -45,9 +47,33 @@ Estimate TagPnpEstimator::RunInWorld(const Dataset& dataset) const {
   estimate.events = check.events;
   const std::map<int, TagInfo> tags =
       refine_.enabled ? RefinedMap(frames, dataset.map.tags, camera, &estimate) : dataset.map.tags;
+  std::vector<CornerRansacResult> results;
+  results.reserve(frames.size());
   for (const std::vector<TagObservation>& frame : frames)
-    RecordFramePose(CornerPnpRansac(frame, tags, camera, ransac_), frame.front().t_ns, &estimate);
+    results.push_back(CornerPnpRansac(frame, tags, camera, ransac_));
+  RefuseNeighbourOutliers(&results);
+  for (size_t f = 0; f < frames.size(); ++f)
+    RecordFramePose(results[f], frames[f].front().t_ns, &estimate);
   return estimate;
+}
+
+void TagPnpEstimator::RefuseNeighbourOutliers(std::vector<CornerRansacResult>* results) const {
+  if (!neighbour_gate_.enabled()) return;
+  std::vector<size_t> posed;
+  std::vector<Eigen::Vector3d> positions_W;
+  for (size_t f = 0; f < results->size(); ++f) {
+    if (!(*results)[f].pnp.ok) continue;
+    posed.push_back(f);
+    positions_W.push_back((*results)[f].pnp.T_W_B.p);
+  }
+  const std::vector<bool> refused = NeighbourGateRefusals(positions_W, neighbour_gate_);
+  for (size_t k = 0; k < posed.size(); ++k) {
+    if (!refused[k]) continue;
+    CornerRansacResult& result = (*results)[posed[k]];
+    result.pnp.ok = false;
+    result.pnp.reason = NeighbourGateReason(neighbour_gate_);
+    result.outlier_tags.clear();
+  }
 }
 
 std::map<int, TagInfo> TagPnpEstimator::RefinedMap(

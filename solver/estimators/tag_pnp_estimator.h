@@ -14,10 +14,13 @@
 // bundle adjustment over the first pass's posed frames and the tags, each tag tied to its map pose)
 // and then poses every frame again on the refined map; how far the tags moved is reported in the
 // events and as the parameters map_shift_max and map_shift_median (m).
+// neighbour_gate_m > 0 then refuses the poses that lie that far from the median position of their
+// neighbouring posed frames (solver/pose/neighbour_gate.h), counted as failures by that reason.
 // Options: camera (default: the tags' camera, cameras[0]), gravity_init_s (2), gravity_min_tags
 // (2), ransac (1), ransac_threshold_px (4), ransac_min_tags (2), single_tag (1),
 // min_ambiguity_ratio (0), map_check (1), refine_map (0), refine_sigma_m (0.1),
-// refine_sigma_rad (0.1), refine_loss (cauchy), refine_loss_px (2), refine_gate_px (8).
+// refine_sigma_rad (0.1), refine_loss (cauchy), refine_loss_px (2), refine_gate_px (8),
+// neighbour_gate_m (0: off), neighbour_frames (20).
 #pragma once
 
 #include <map>
@@ -27,6 +30,7 @@
 #include "solver/board/board_world.h"
 #include "solver/estimator.h"
 #include "solver/pose/corner_pnp_ransac.h"
+#include "solver/pose/neighbour_gate.h"
 #include "solver/pose/tag_map_check.h"
 #include "solver/pose/tag_map_refine.h"
 
@@ -45,12 +49,15 @@ class TagPnpEstimator : public Estimator {
   std::map<int, TagInfo> RefinedMap(const std::vector<std::vector<TagObservation>>& frames,
                                     const std::map<int, TagInfo>& tags, const CameraSensor& camera,
                                     Estimate* estimate) const;
+  // neighbour_gate_m: the posed frames far from their neighbours become failures.
+  void RefuseNeighbourOutliers(std::vector<CornerRansacResult>* results) const;
 
   std::string camera_name_;
   BoardInitOptions board_;
   CornerRansacOptions ransac_;
   TagMapCheckOptions map_check_;
   TagMapRefineOptions refine_;
+  NeighbourGateOptions neighbour_gate_;
 };
 
 }  // namespace mavloc

@@ -331,5 +331,36 @@ TEST(TagMapRefine, TagslamTest11) {
   EXPECT_GT(refined.parameters.at("map_shift_max").value, 0.1);
 }
 
+// The same log with the check across frames on top of the refined map: at most 1 % of the frames
+// more than 0.3 m from TagSLAM's trajectory, while at least 90 % of the 1434 frames keep a pose.
+// The refused frames are counted as failures under the gate's reason.
+TEST(TagMapRefine, TagslamTest11NeighbourGate) {
+  REQUIRE_SHARED_DATA();
+  TagslamImportOptions import;
+  import.test_dir = testing::SharedDataDir() + "/tagslam/test_11";
+  import.cameras = {"cam0"};
+  const TagslamImport log = ImportTagslamTest(import);
+  const auto reference = std::find_if(log.trajectories.begin(), log.trajectories.end(),
+                                      [](const TagslamTrajectoryFile& t) {
+                                        return t.relative_path == "reference/tagslam_rig.txt";
+                                      });
+  ASSERT_NE(reference, log.trajectories.end());
+  EstimatorOptions gated;
+  gated.Set("refine_map", "1");
+  gated.Set("neighbour_gate_m", "0.3");
+  const Estimate estimate = FindEstimator("tag-pnp")->create(gated)->Run(log.dataset);
+  const std::vector<double> errors = ErrorsAgainst(estimate, reference->poses);
+  int refused = 0;
+  for (const auto& [reason, count] : estimate.failures)
+    if (reason.find("neighbour_gate_m") != std::string::npos) refused += count;
+  std::cout << "test 11 cam0, refine_map=1 neighbour_gate_m=0.3: posed " << estimate.poses.size()
+            << " (" << refused << " refused by the gate), beyond 0.3 m "
+            << FractionBeyond(errors, 0.3) << ", median " << Median(errors) << " m\n";
+  EXPECT_GE(estimate.poses.size(), 1291u);  // 90 % of the 1434 frames
+  EXPECT_EQ(errors.size(), estimate.poses.size());
+  EXPECT_LE(FractionBeyond(errors, 0.3), 0.01);
+  EXPECT_GT(refused, 0);
+}
+
 }  // namespace
 }  // namespace mavloc
