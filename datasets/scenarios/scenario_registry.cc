@@ -104,7 +104,8 @@ const std::vector<ScenarioEntry>& ScenarioRegistry() {
       Entry("euroc-laser",
             "laser paper 5.2: real EuRoC V1_01_easy IMU + ground truth, simulated laser spot at 10 "
             "Hz",
-            {"data", "alpha_deg", "L", "clearance_m", "camera_rate_hz", "bearing_noise_deg", "imu"},
+            {"data", "alpha_deg", "L", "clearance_m", "camera_rate_hz", "bearing_noise_deg", "imu",
+             "imu_noise_model", "imu_noise_scale"},
             GenerateEurocLaser),
       Entry("aprilgrid-calibration",
             "stereo rig waved before a tilted 6x6 aprilgrid (board map), "

@@ -619,14 +619,14 @@ RunMetrics MetricsFromJson(const nlohmann::json& j) {
 // {"scenario", "seed", "duration_s", "bound": {"ok", "compute_s", "reason"},
 //  "rows": [{"metrics": RunMetrics, "nees": this run's NEES sums}, ...] (plan order)}.
 nlohmann::json RunUnit(const Plan& plan, uint64_t seed, const std::optional<double>& duration_s,
-                       const std::string& euroc_data) {
+                       const std::map<std::string, std::string>& euroc_settings) {
   const EvaluationOptions evaluation_options;  // align none, 20 ms association
   ScenarioOptions scenario_options;
   scenario_options.seed = seed;
   scenario_options.duration_s = duration_s;
   scenario_options.settings = plan.scenario_settings;
-  if (plan.scenario == "euroc-laser" && !euroc_data.empty())
-    scenario_options.settings["data"] = euroc_data;
+  if (plan.scenario == "euroc-laser")
+    for (const auto& [key, value] : euroc_settings) scenario_options.settings[key] = value;
   const Dataset dataset = FindScenario(plan.scenario)->generate(scenario_options);
   nlohmann::json unit = {{"scenario", plan.scenario}, {"seed", seed}};
   unit["duration_s"] = JsonNumber(
@@ -732,6 +732,9 @@ struct SmootherSettings {
   std::map<std::string, std::string> raw;
   std::map<std::string, std::string> smoother_options;
   std::string euroc_data;
+  // euroc_data, euroc_imu_noise_model, euroc_imu_noise_scale as euroc-laser's settings data,
+  // imu_noise_model, imu_noise_scale.
+  std::map<std::string, std::string> euroc_settings;
 
   // duration_s.SCENARIO, else duration_s, else the scenario's default.
   std::optional<double> DurationFor(const std::string& scenario) const {
@@ -753,12 +756,16 @@ SmootherSettings ParseSettings(const std::map<std::string, std::string>& raw) {
       settings.smoother_options[key.substr(9)] = value;
       continue;
     }
-    if (key != "scenarios" && key != "duration_s" && key != "euroc_data" &&
-        key.rfind("duration_s.", 0) != 0)
-      throw InputError(
-          fmt::format("repro smoother: unknown setting '{}' (known: scenarios, duration_s, "
-                      "duration_s.SCENARIO, euroc_data, smoother.KEY)",
-                      key));
+    if (key == "euroc_data" || key == "euroc_imu_noise_model" || key == "euroc_imu_noise_scale") {
+      settings.euroc_settings[key == "euroc_data" ? "data" : key.substr(6)] = value;
+      continue;
+    }
+    if (key != "scenarios" && key != "duration_s" && key.rfind("duration_s.", 0) != 0)
+      throw InputError(fmt::format(
+          "repro smoother: unknown setting '{}' (known: scenarios, duration_s, "
+          "duration_s.SCENARIO, euroc_data, euroc_imu_noise_model, euroc_imu_noise_scale, "
+          "smoother.KEY)",
+          key));
   }
   // The smoother's marginal pose covariances for the consistency (ANEES) table;
   // `--set smoother.covariance=0` leaves them out (and their time out of the runtime column).
@@ -1171,7 +1178,7 @@ nlohmann::json RunSmootherReproUnit(const ReproSettings& raw, const std::string&
   const SmootherSettings settings = ParseSettings(raw);
   const Plan plan = MakePlan(scenario, settings.smoother_options);
   if (!FindScenario(scenario)) throw InputError("repro smoother: no scenario '" + scenario + "'");
-  return RunUnit(plan, seed, settings.DurationFor(scenario), settings.euroc_data);
+  return RunUnit(plan, seed, settings.DurationFor(scenario), settings.euroc_settings);
 }
 
 Report SummarizeSmoother(const ReproRuns& runs) {

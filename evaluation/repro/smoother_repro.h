@@ -23,8 +23,10 @@
 //
 // Settings (`--set key=value`): scenarios (comma list, default all of the above), duration_s
 // (every scenario; default: the scenario's own), duration_s.SCENARIO (one scenario), euroc_data
-// (EuRoC V1_01_easy folder; default: the scenario's own look-up), smoother.KEY=VALUE (a smoother
-// option for every scenario).
+// (EuRoC V1_01_easy folder; default: the scenario's own look-up), euroc_imu_noise_model (a Kalibr
+// imu.yaml or EuRoC sensor.yaml whose densities euroc-laser's estimators and bound take),
+// euroc_imu_noise_scale (every density times it), smoother.KEY=VALUE (a smoother option for every
+// scenario).
 //
 // Runs on the sweep machinery (evaluation/sweep/): every (scenario, seed) is one unit whose result
 // is JSON (the per-estimator metrics, NEES and Cramér–Rao sums of that run),
