@@ -69,34 +69,35 @@ ReportTable TimingTable(const StereoObstacleRun& run) {
 }
 
 ReportTable DetectionTable(const ObstacleEvaluation& e) {
-  ReportTable t;
-  t.name = "detection";
-  t.title = fmt::format(
+  const std::string title = fmt::format(
       "Alerts against the truth: a frame is positive when the true distance to the nearest "
       "obstacle or room surface is below the clearance ({} m)",
       e.clearance_m);
+  std::vector<ReportTable::Column> counts;
   for (const char* name : {"frames", "alerts", "TP", "FP", "FN", "TN", "precision", "recall"})
-    t.columns.push_back({name, ""});
-  t.rows = {{e.frames, e.alerts, e.true_positive, e.false_positive, e.false_negative,
-             e.true_negative, NumberOrNull(e.precision), NumberOrNull(e.recall)}};
-  return t;
+    counts.push_back({name, ""});
+  return {"detection",
+          title,
+          counts,
+          {{e.frames, e.alerts, e.true_positive, e.false_positive, e.false_negative,
+            e.true_negative, NumberOrNull(e.precision), NumberOrNull(e.recall)}}};
 }
 
+// One row per known obstacle.
 ReportTable ObstacleTable(const ObstacleEvaluation& e) {
-  ReportTable t;
-  t.name = "obstacles";
-  t.title = fmt::format(
-      "Each obstacle: the trajectory's closest approach and the alerts attributed to it (nearest "
-      "measured point within {} m of its surface)",
-      e.attribution_m);
-  t.columns = {{"obstacle", ""},
-               {"closest approach", "m"},
-               {"within clearance", ""},
-               {"alerts attributed", ""}};
+  std::vector<std::vector<nlohmann::json>> rows;
   for (const ObstacleTruth& o : e.obstacles)
-    t.rows.push_back(
+    rows.push_back(
         {o.index, NumberOrNull(o.min_distance_m), o.within_clearance ? "yes" : "no", o.alerts});
-  return t;
+  return {"obstacles",
+          fmt::format("Each obstacle: the trajectory's closest approach and the alerts attributed "
+                      "to it (nearest measured point within {} m of its surface)",
+                      e.attribution_m),
+          {{"obstacle", ""},
+           {"closest approach", "m"},
+           {"within clearance", ""},
+           {"alerts attributed", ""}},
+          rows};
 }
 
 nlohmann::json RunDetails(const std::string& dataset_name, const StereoObstacleRun& run,

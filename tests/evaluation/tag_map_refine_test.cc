@@ -296,26 +296,35 @@ double Median(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
+// TagSLAM's test 11, camera cam0, and TagSLAM's optimised trajectory (empty when missing).
+struct Test11 {
+  TagslamImport log;
+  std::vector<StampedPose> reference;
+};
+
+Test11 ImportTest11Cam0() {
+  TagslamImportOptions import;
+  import.test_dir = testing::SharedDataDir() + "/tagslam/test_11";
+  import.cameras = {"cam0"};
+  Test11 out{ImportTagslamTest(import), {}};
+  for (const TagslamTrajectoryFile& t : out.log.trajectories)
+    if (t.relative_path == "reference/tagslam_rig.txt") out.reference = t.poses;
+  return out;
+}
+
 // TagSLAM's test 11 (real detections, loose map): against TagSLAM's optimised trajectory, the
 // refined map poses more frames, with a third of the median error and fewer frames beyond 0.3 m.
 // What is left beyond 0.3 m is lone far tags whose planar pose flips (docs/commands/logs.md).
 TEST(TagMapRefine, TagslamTest11) {
   REQUIRE_SHARED_DATA();
-  TagslamImportOptions import;
-  import.test_dir = testing::SharedDataDir() + "/tagslam/test_11";
-  import.cameras = {"cam0"};
-  const TagslamImport log = ImportTagslamTest(import);
-  const auto reference = std::find_if(log.trajectories.begin(), log.trajectories.end(),
-                                      [](const TagslamTrajectoryFile& t) {
-                                        return t.relative_path == "reference/tagslam_rig.txt";
-                                      });
-  ASSERT_NE(reference, log.trajectories.end());
+  const Test11 test11 = ImportTest11Cam0();
+  ASSERT_FALSE(test11.reference.empty());
   EstimatorOptions on;
   on.Set("refine_map", "1");
-  const Estimate refined = FindEstimator("tag-pnp")->create(on)->Run(log.dataset);
-  const Estimate plain = FindEstimator("tag-pnp")->create({})->Run(log.dataset);
-  const std::vector<double> e_refined = ErrorsAgainst(refined, reference->poses);
-  const std::vector<double> e_plain = ErrorsAgainst(plain, reference->poses);
+  const Estimate refined = FindEstimator("tag-pnp")->create(on)->Run(test11.log.dataset);
+  const Estimate plain = FindEstimator("tag-pnp")->create({})->Run(test11.log.dataset);
+  const std::vector<double> e_refined = ErrorsAgainst(refined, test11.reference);
+  const std::vector<double> e_plain = ErrorsAgainst(plain, test11.reference);
   std::cout << "test 11 cam0: posed " << plain.poses.size() << " -> " << refined.poses.size()
             << ", beyond 0.3 m " << FractionBeyond(e_plain, 0.3) << " -> "
             << FractionBeyond(e_refined, 0.3) << ", median " << Median(e_plain) << " -> "
@@ -336,20 +345,13 @@ TEST(TagMapRefine, TagslamTest11) {
 // The refused frames are counted as failures under the gate's reason.
 TEST(TagMapRefine, TagslamTest11NeighbourGate) {
   REQUIRE_SHARED_DATA();
-  TagslamImportOptions import;
-  import.test_dir = testing::SharedDataDir() + "/tagslam/test_11";
-  import.cameras = {"cam0"};
-  const TagslamImport log = ImportTagslamTest(import);
-  const auto reference = std::find_if(log.trajectories.begin(), log.trajectories.end(),
-                                      [](const TagslamTrajectoryFile& t) {
-                                        return t.relative_path == "reference/tagslam_rig.txt";
-                                      });
-  ASSERT_NE(reference, log.trajectories.end());
+  const Test11 test11 = ImportTest11Cam0();
+  ASSERT_FALSE(test11.reference.empty());
   EstimatorOptions gated;
   gated.Set("refine_map", "1");
   gated.Set("neighbour_gate_m", "0.3");
-  const Estimate estimate = FindEstimator("tag-pnp")->create(gated)->Run(log.dataset);
-  const std::vector<double> errors = ErrorsAgainst(estimate, reference->poses);
+  const Estimate estimate = FindEstimator("tag-pnp")->create(gated)->Run(test11.log.dataset);
+  const std::vector<double> errors = ErrorsAgainst(estimate, test11.reference);
   int refused = 0;
   for (const auto& [reason, count] : estimate.failures)
     if (reason.find("neighbour_gate_m") != std::string::npos) refused += count;
