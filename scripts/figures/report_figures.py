@@ -1598,6 +1598,51 @@ def sweep_figures(out, folder):
                      groups, "scenario (settings)")
 
 
+def obstacle_figures(out, folder):
+    """An obstacles report's frames.csv: per frame, the nearest measured obstacle distance beside
+    the true one with the alerts and the clearance, and the time of each pipeline stage."""
+    header, rows = read_csv(os.path.join(folder, "frames.csv"))
+    col = {h.lstrip("#").strip(): i for i, h in enumerate(header)}
+    needed = ("timestamp [ns]", "alert", "nearest_measured_distance [m]", "true_distance [m]",
+              "rectification [ms]", "disparity [ms]", "point_cloud [ms]", "total [ms]")
+    if not rows or not all(h in col for h in needed):
+        return
+    a = np.array([[to_float(r[col[h]]) for h in needed] for r in rows])
+    t = (a[:, 0] - a[0, 0]) * 1e-9
+    report = read_json(os.path.join(folder, "report.json")) or {}
+    clearance = to_float(report.get("details", {}).get("settings", {}).get("clearance_m"))
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True)
+    tm, measured = break_gaps(t, a[:, 2])
+    top.plot(tm, measured, color="tab:blue", label="nearest measured point")
+    if np.isfinite(a[:, 3]).any():
+        tt, truth = break_gaps(t, a[:, 3])
+        top.plot(tt, truth, color="0.35", linewidth=2.0, label="truth: nearest surface", zorder=3)
+    alerts = a[:, 1] > 0.5
+    if alerts.any():
+        top.plot(t[alerts], np.where(np.isfinite(a[alerts, 2]), a[alerts, 2], 0.0), "v",
+                 color="tab:red", markersize=4, linestyle="none", label="alert")
+    if math.isfinite(clearance):
+        top.axhline(clearance, color="tab:red", linestyle="--", linewidth=1.0,
+                    label=f"clearance {clearance:g} m")
+    top.set_ylabel("distance [m]")
+    top.set_title("Distance to the nearest obstacle per frame")
+    legend_outside(top)
+    for k, (name, color) in enumerate((("rectification", "tab:green"),
+                                       ("disparity", "tab:orange"),
+                                       ("point cloud", "tab:purple"),
+                                       ("total", "black"))):
+        ts, ms = break_gaps(t, a[:, 4 + k])
+        bottom.plot(ts, ms, color=color, linewidth=1.0, label=name)
+    bottom.set_ylabel("time per frame [ms]")
+    bottom.set_xlabel("time since the first frame [s]")
+    bottom.set_title("Time of each stage of the pipeline (the paper's Table 1 gives the means)")
+    legend_outside(bottom)
+    fig.tight_layout()
+    out.save(fig, "obstacles_over_time.png",
+             "Per frame: the nearest measured obstacle point against the true nearest surface, "
+             "alerts and the clearance; below, the time of each pipeline stage (frames.csv).")
+
+
 def detect_kind(folder):
     """The report_kind its report.json (or eval.json) declares; "unknown" otherwise."""
     for name in ("report.json", "eval.json"):
@@ -1677,7 +1722,8 @@ def main():
     kind = args.kind or detect_kind(args.report_dir)
     out = Figures(args.report_dir)
     {"eval": eval_figures, "compare": compare_figures, "repro": repro_figures,
-     "matrix": matrix_figures, "imu-noise": imu_noise_figures, "sweep": sweep_figures}.get(
+     "matrix": matrix_figures, "imu-noise": imu_noise_figures, "sweep": sweep_figures,
+     "obstacles": obstacle_figures}.get(
         kind, lambda *_: None)(out, args.report_dir)
     if not out.written:
         print(f"report_figures: {args.report_dir} ({kind}): nothing to plot", file=sys.stderr)

@@ -92,6 +92,29 @@ TEST_F(ReportHtml, CompareWritesFiguresTrajectoriesAndThePage) {
   EXPECT_NE(ReadAll(report + "/report.md").find("[report.html](report.html)"), std::string::npos);
 }
 
+// A sweep draws the ATE boxplots over the seeds; an obstacles report the distances and stage
+// times per frame; each page inlines its figure.
+TEST_F(ReportHtml, SweepAndObstaclesDrawTheirFigures) {
+  const std::string sweep = *dir_ + "/sweep";
+  const auto s =
+      RunCommand(Cli("sweep --scenario tag-arena-hover --duration 2 --seeds 1..3 "
+                     "--estimators tag-pnp --jobs 1 --out " +
+                     sweep));
+  ASSERT_EQ(s.exit_code, 0) << s.output;
+  EXPECT_TRUE(fs::exists(sweep + "/sweep_ate_boxplots.png")) << s.output;
+  EXPECT_EQ(Count(ReadAll(sweep + "/report.html"), "src=\"data:image/png;base64,"), 1u);
+
+  const std::string data = *dir_ + "/stereo";
+  const auto simulate =
+      RunCommand(Cli("simulate --scenario stereo-obstacles --render --duration 5 --out " + data));
+  ASSERT_EQ(simulate.exit_code, 0) << simulate.output;
+  const std::string obstacles = *dir_ + "/obstacles";
+  const auto o = RunCommand(Cli("obstacles --dataset " + data + " --report " + obstacles));
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  EXPECT_TRUE(fs::exists(obstacles + "/obstacles_over_time.png")) << o.output;
+  EXPECT_EQ(Count(ReadAll(obstacles + "/report.html"), "src=\"data:image/png;base64,"), 1u);
+}
+
 TEST_F(ReportHtml, WithoutPythonTheExitCodeIsUnchangedAndTheOutputSaysHow) {
   const std::string report = *dir_ + "/no_python";
   const auto r =
