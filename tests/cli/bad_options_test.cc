@@ -183,6 +183,21 @@ std::vector<Case> Cases() {
   for (const char* scenario : {"tag-arena-dynamic", "laser-plane", "euroc-laser"})
     cases.push_back({std::string("compare --scenario ") + scenario + " --set typo_key=1",
                      {"typo_key", scenario}});
+  // euroc-laser's IMU noise model, on the real EuRoC folder: a bad scale, a file without IMU
+  // densities (cam0's sensor.yaml), and the same through repro smoother's settings.
+  if (testing::HasSharedData()) {
+    const std::string euroc = testing::SharedDataDir() + "/euroc_v1_01_easy";
+    const std::string simulate = "simulate --scenario euroc-laser --out out --set data=" + euroc;
+    cases.push_back({simulate + " --set imu_noise_scale=0", {"imu_noise_scale", "(0, 1000]"}});
+    cases.push_back({simulate + " --set imu_noise_scale=1e6", {"imu_noise_scale"}});
+    cases.push_back({simulate + " --set imu_noise_model=" + euroc + "/mav0/cam0/sensor.yaml",
+                     {"cam0/sensor.yaml", "imu_noise_model", "no IMU noise densities"}});
+    cases.push_back(
+        {simulate + " --set imu_noise_model=" + euroc + "/missing.yaml", {"missing.yaml"}});
+    cases.push_back({"repro smoother --runs 1 --set scenarios=euroc-laser --set euroc_data=" +
+                         euroc + " --set euroc_imu_noise_scale=-2 --report r",
+                     {"imu_noise_scale"}});
+  }
   return cases;
 }
 
