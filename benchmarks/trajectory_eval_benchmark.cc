@@ -130,7 +130,7 @@ void BM_ReadTumTrajectory(benchmark::State& state) {
   WriteTumTrajectory(Truth(), path);
   size_t poses = 0;
   for (auto _ : state) {
-    poses = ReadTrajectory(path).states.size();
+    poses = ReadTrajectory(path).poses.size();
     benchmark::DoNotOptimize(poses);
   }
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) *

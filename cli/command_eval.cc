@@ -12,7 +12,9 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
+#include <future>
 #include <map>
 #include <optional>
 #include <set>
@@ -184,33 +186,15 @@ LoadedTrajectory ReadEvalTrajectory(const std::string& path, const TrajectoryRea
   return loaded;
 }
 
-void Run(const Args& a) {
-  EvaluationProtocol protocol = ProtocolFromArgs(a);
-  // The report folder is checked before any work and written whole (cli/output_folder.h).
-  std::optional<StagedFolder> out;
-  if (!a.out.empty()) out.emplace(a.out, FolderKind::kReport, a.force);
-  if (!a.labels.empty() && a.labels.size() != a.est.size())
-    throw InputError("--label", 0, "",
-                     fmt::format("given {} times for {} --est: give one label per --est",
-                                 a.labels.size(), a.est.size()));
-  TrajectoryReadOptions truth_options;
-  truth_options.format = FormatOption(a.gt_format, "--gt-format");
-  truth_options.sort = a.sort;
-  truth_options.times_path = a.gt_times;
-  std::vector<std::string> notes;  // printed once everything is evaluated
-  const LoadedTrajectory truth = ReadEvalTrajectory(a.gt, truth_options, &notes);
-  if (truth.states.size() < 2)
-    throw InputError(a.gt, 0, "",
-                     fmt::format("the ground truth has {} pose{}: a trajectory evaluation needs at "
-                                 "least 2",
-                                 truth.states.size(), truth.states.size() == 1 ? "" : "s"));
+// One --est: a file or a folder of runs, every run read.
+struct Input {
+  std::string label, source;
+  bool is_folder = false;
+  std::vector<std::pair<std::string, LoadedTrajectory>> runs;
+};
 
-  // Read every input before evaluating anything: a bad file stops the command before any output.
-  struct Input {
-    std::string label, source;
-    bool is_folder = false;
-    std::vector<std::pair<std::string, LoadedTrajectory>> runs;
-  };
+// Every --est, read before anything is evaluated: a bad file stops the command before any output.
+std::vector<Input> ReadInputs(const Args& a, std::vector<std::string>* notes) {
   std::vector<Input> inputs;
   std::set<std::string> used_labels;
   for (size_t k = 0; k < a.est.size(); ++k) {
@@ -233,15 +217,66 @@ void Run(const Args& a) {
     const std::vector<std::string> files =
         input.is_folder ? RunFiles(input.source) : std::vector<std::string>{input.source};
     for (const auto& file : files) {
-      LoadedTrajectory loaded = ReadEvalTrajectory(file, options, &notes);
+      LoadedTrajectory loaded = ReadEvalTrajectory(file, options, notes);
       input.runs.emplace_back(file, std::move(loaded));
     }
     inputs.push_back(std::move(input));
   }
+  return inputs;
+}
 
+// The ground truth and the estimates. The truth is read on a second thread while the estimates are
+// read on this one (plain files; a log topic's reader keeps to one thread); errors come in the
+// order of a serial read, the truth's first. Notes: the truth's, then the estimates'.
+std::pair<LoadedTrajectory, std::vector<Input>> ReadTruthAndInputs(
+    const Args& a, std::vector<std::string>* notes) {
+  TrajectoryReadOptions truth_options;
+  truth_options.format = FormatOption(a.gt_format, "--gt-format");
+  truth_options.sort = a.sort;
+  truth_options.times_path = a.gt_times;
+  const bool any_log = ParseLogTopicSpec(a.gt).has_value() ||
+                       std::any_of(a.est.begin(), a.est.end(), [](const std::string& est) {
+                         return ParseLogTopicSpec(est).has_value();
+                       });
+  std::vector<std::string> truth_notes, input_notes;
+  std::future<LoadedTrajectory> truth_future =
+      std::async(any_log ? std::launch::deferred : std::launch::async,
+                 [&] { return ReadEvalTrajectory(a.gt, truth_options, &truth_notes); });
+  std::vector<Input> inputs;
+  std::exception_ptr input_error;
+  try {
+    inputs = ReadInputs(a, &input_notes);
+  } catch (...) {
+    input_error = std::current_exception();
+  }
+  LoadedTrajectory truth = truth_future.get();
+  if (truth.poses.size() < 2)
+    throw InputError(a.gt, 0, "",
+                     fmt::format("the ground truth has {} pose{}: a trajectory evaluation needs at "
+                                 "least 2",
+                                 truth.poses.size(), truth.poses.size() == 1 ? "" : "s"));
+  if (input_error) std::rethrow_exception(input_error);
+  notes->insert(notes->end(), truth_notes.begin(), truth_notes.end());
+  notes->insert(notes->end(), input_notes.begin(), input_notes.end());
+  return {std::move(truth), std::move(inputs)};
+}
+
+void Run(const Args& a) {
+  EvaluationProtocol protocol = ProtocolFromArgs(a);
+  // The report folder is checked before any work and written whole (cli/output_folder.h).
+  std::optional<StagedFolder> out;
+  if (!a.out.empty()) out.emplace(a.out, FolderKind::kReport, a.force);
+  if (!a.labels.empty() && a.labels.size() != a.est.size())
+    throw InputError("--label", 0, "",
+                     fmt::format("given {} times for {} --est: give one label per --est",
+                                 a.labels.size(), a.est.size()));
+  std::vector<std::string> notes;  // printed once everything is evaluated
+  // The report's files (truth, aligned estimates) are built only when a report is written.
+  const bool writes_report = out.has_value() || !a.json.empty();
+  protocol.keep_relative_segments = writes_report;
+  auto [truth, inputs] = ReadTruthAndInputs(a, &notes);
   EvalReport report;
   report.truth = truth.report;
-  report.truth_poses = truth.Poses();
   report.relative_lengths_given = !protocol.relative_lengths_m.empty();
   for (const auto& input : inputs) {
     EvalEstimate estimate;
@@ -249,7 +284,8 @@ void Run(const Args& a) {
     estimate.source = input.source;
     estimate.is_folder = input.is_folder;
     for (size_t r = 0; r < input.runs.size(); ++r) {
-      EvalRun run = EvaluateRun(input.runs[r].first, input.runs[r].second, truth, protocol, a.gt);
+      EvalRun run = EvaluateRun(input.runs[r].first, input.runs[r].second, truth, protocol, a.gt,
+                                writes_report);
       // rpg's default lengths come from the first evaluation; every other one uses the same.
       if (protocol.relative_lengths_m.empty())
         protocol.relative_lengths_m = run.evaluation.protocol.relative_lengths_m;
@@ -259,6 +295,7 @@ void Run(const Args& a) {
     report.estimates.push_back(std::move(estimate));
   }
   report.protocol = protocol;
+  report.truth_poses = std::move(truth.poses);
   for (const std::string& note : notes) std::fprintf(stderr, "mavloc: note: %s\n", note.c_str());
 
   // evo-style statistics per run, then the table.
@@ -284,6 +321,7 @@ void Run(const Args& a) {
       for (const auto& message : r.evaluation.diagnostics.Messages())
         std::printf("diagnostic: %s%s: %s\n", e.label.c_str(),
                     r.run > 0 ? fmt::format(" run {}", r.run).c_str() : "", message.c_str());
+  if (!writes_report) return;
   const Report model = EvalModel(report);
   if (!a.json.empty()) WriteFileAtomically(a.json, ReportJsonText(model));
   if (out) {

@@ -101,12 +101,26 @@ RelativeErrorAtLength ComputeRelativeError(const std::vector<PosePair>& pairs,
     r.yaw_deg.push_back(std::abs(ypr.yaw) * 180.0 / M_PI);
     r.tilt_deg.push_back(std::hypot(ypr.pitch, ypr.roll) * 180.0 / M_PI);
   }
+  r.segments = r.translation_m.size();
   r.translation_m_stats = ComputeStatistics(r.translation_m);
   r.translation_percent_stats = ComputeStatistics(r.translation_percent);
   r.rotation_deg_stats = ComputeStatistics(r.rotation_deg);
   r.rotation_deg_per_m_stats = ComputeStatistics(r.rotation_deg_per_m);
   r.yaw_deg_stats = ComputeStatistics(r.yaw_deg);
   r.tilt_deg_stats = ComputeStatistics(r.tilt_deg);
+  return r;
+}
+
+RelativeErrorAtLength RelativeErrorStatistics(const RelativeErrorAtLength& full) {
+  RelativeErrorAtLength r;
+  r.length_m = full.length_m;
+  r.segments = full.segments;
+  r.translation_m_stats = full.translation_m_stats;
+  r.translation_percent_stats = full.translation_percent_stats;
+  r.rotation_deg_stats = full.rotation_deg_stats;
+  r.rotation_deg_per_m_stats = full.rotation_deg_per_m_stats;
+  r.yaw_deg_stats = full.yaw_deg_stats;
+  r.tilt_deg_stats = full.tilt_deg_stats;
   return r;
 }
 

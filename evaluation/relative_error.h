@@ -48,7 +48,8 @@ struct RelativeErrorAtLength {
   ErrorStatistics rotation_deg_per_m_stats;
   ErrorStatistics yaw_deg_stats;
   ErrorStatistics tilt_deg_stats;
-  size_t count() const { return translation_m.size(); }
+  size_t segments = 0;  // also when the per-segment values were dropped (their statistics kept)
+  size_t count() const { return segments; }
 };
 
 // Accumulated path length of the truth positions: dist(0) = 0, dist(i) = dist(i-1) + |p_i -
@@ -76,5 +77,8 @@ RelativeErrorAtLength ComputeRelativeError(
     const std::vector<PosePair>& pairs, const std::vector<double>& distances, double length_m,
     double max_length_diff_fraction = 0.2, double scale = 1.0,
     const Eigen::Matrix3d& R_raw_aligned = Eigen::Matrix3d::Identity());
+
+// The same without the per-segment values: the length, the segment count and the statistics.
+RelativeErrorAtLength RelativeErrorStatistics(const RelativeErrorAtLength& full);
 
 }  // namespace mavloc

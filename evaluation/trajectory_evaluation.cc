@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <future>
 
 #include "core/numbers.h"
 #include "core/rotation.h"
@@ -151,7 +152,33 @@ std::optional<TrajectoryEvaluation> EvaluateTrajectory(const std::vector<Stamped
   std::vector<PosePair>& aligned = pairs;
   for (auto& pair : aligned) pair.T_W_B_est = ApplySimilarity(*S, pair.T_W_B_est);
 
-  // 3. APE (evo): translation from the positions, the rest from E = T_gt^-1 T_est'.
+  // 3. Relative error (rpg: the unaligned estimate with the alignment's scale, its error expressed
+  //    in the unaligned estimate's world; the aligned pairs with scale 1 and R^T give the same),
+  //    on a second thread for long trajectories while APE, RPE and yaw drift are computed here
+  //    (collected at the end).
+  const std::vector<double> dist = AccumulatedDistances(aligned);
+  out.truth_path_length_m = dist.back();
+  out.duration_s = NsToSeconds(aligned.back().t_ns - aligned.front().t_ns);
+  if (out.protocol.relative_lengths_m.empty()) {
+    out.protocol.relative_lengths_m =
+        DefaultRelativeLengths(PathLength(truth), protocol.relative_length_fractions);
+  }
+  const auto relative_errors = [&out, &aligned, &dist, &protocol, R_raw = S->R.transpose()] {
+    std::vector<RelativeErrorAtLength> relative;
+    for (double length : out.protocol.relative_lengths_m) {
+      relative.push_back(ComputeRelativeError(aligned, dist, length,
+                                              protocol.max_length_diff_fraction, 1.0, R_raw));
+      if (!protocol.keep_relative_segments)
+        relative.back() = RelativeErrorStatistics(relative.back());
+    }
+    return relative;
+  };
+  constexpr size_t kPairsForSecondThread = 50'000;
+  std::future<std::vector<RelativeErrorAtLength>> relative_future;
+  if (aligned.size() >= kPairsForSecondThread)
+    relative_future = std::async(std::launch::async, relative_errors);
+
+  // 4. APE (evo): translation from the positions, the rest from E = T_gt^-1 T_est'.
   out.pair_t_ns.reserve(aligned.size());
   for (auto* series :
        {&out.ape.translation_m, &out.ape.rotation_deg, &out.ape.rotation_part, &out.ape.full})
@@ -171,7 +198,7 @@ std::optional<TrajectoryEvaluation> EvaluateTrajectory(const std::vector<Stamped
   out.ape_rotation_part = ComputeStatistics(out.ape.rotation_part);
   out.ape_full = ComputeStatistics(out.ape.full);
 
-  // 4. RPE (evo, on the aligned estimate).
+  // 5. RPE (evo, on the aligned estimate).
   for (const RpeDelta& delta : protocol.rpe_deltas) {
     auto rpe = ComputeRpeEvo(aligned, delta);
     if (!rpe) {
@@ -181,20 +208,6 @@ std::optional<TrajectoryEvaluation> EvaluateTrajectory(const std::vector<Stamped
     out.rpe.push_back(std::move(*rpe));
   }
 
-  // 5. Relative error (rpg: the unaligned estimate with the alignment's scale, its error expressed
-  //    in the unaligned estimate's world; the aligned pairs with scale 1 and R^T give the same).
-  const std::vector<double> dist = AccumulatedDistances(aligned);
-  out.truth_path_length_m = dist.back();
-  out.duration_s = NsToSeconds(aligned.back().t_ns - aligned.front().t_ns);
-  if (out.protocol.relative_lengths_m.empty()) {
-    out.protocol.relative_lengths_m =
-        DefaultRelativeLengths(PathLength(truth), protocol.relative_length_fractions);
-  }
-  for (double length : out.protocol.relative_lengths_m) {
-    out.relative.push_back(ComputeRelativeError(
-        aligned, dist, length, protocol.max_length_diff_fraction, 1.0, S->R.transpose()));
-  }
-
   // 6. Yaw drift and diagnostics.
   out.yaw_drift = ComputeYawDrift(aligned, dist);
   out.diagnostics.rotation_offset = DiagnoseRotationOffset(aligned, protocol.diagnostics);
@@ -202,6 +215,7 @@ std::optional<TrajectoryEvaluation> EvaluateTrajectory(const std::vector<Stamped
       DiagnoseTimeOffset(estimate, truth, protocol.diagnostics, protocol.time_offset_s);
   out.diagnostics.scale =
       DiagnoseScale(protocol.alignment == AlignmentMode::kSim3, S->scale, protocol.diagnostics);
+  out.relative = relative_future.valid() ? relative_future.get() : relative_errors();
   if (diagnostics_out) *diagnostics_out = out.diagnostics;
   return out;
 }

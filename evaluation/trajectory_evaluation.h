@@ -97,6 +97,9 @@ struct EvaluationProtocol {
   std::vector<double> relative_lengths_m;
   std::vector<double> relative_length_fractions{0.1, 0.2, 0.3, 0.4, 0.5};
   double max_length_diff_fraction = 0.2;  // rpg: max_dist_diff = 0.2 * d
+  // Keep the relative errors of every segment (for CSVs and boxplots); false keeps only their
+  // count and statistics (a million-pose trajectory has millions of segments).
+  bool keep_relative_segments = true;
 
   // Diagnostics (trajectory_diagnostics.h); metric_estimator: a Sim3 scale far from 1 is a fault.
   DiagnosticOptions diagnostics;

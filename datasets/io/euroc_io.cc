@@ -879,7 +879,7 @@ std::vector<GroundTruthState> ReadTrajectoryFile(const std::string& path,
   // Any format ReadTrajectory detects (TUM, EuRoC/ASL, KITTI); repeated stamps keep the first row.
   LoadedTrajectory loaded = ReadTrajectory(path);
   if (report != nullptr) *report = loaded.report;
-  return std::move(loaded.states);
+  return loaded.States();
 }
 
 }  // namespace mavloc

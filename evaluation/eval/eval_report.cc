@@ -102,13 +102,17 @@ const ErrorStatistics& RelationStats(const TrajectoryEvaluation& e, PoseRelation
 // All segments of all lengths pooled (the KITTI benchmark averages every segment error).
 void PooledRelative(const TrajectoryEvaluation& e, double* translation_pct,
                     double* rotation_deg_m) {
-  std::vector<double> t, r;
+  double t_sum = 0.0, r_sum = 0.0;
+  size_t n = 0;
   for (const auto& length : e.relative) {
-    t.insert(t.end(), length.translation_percent.begin(), length.translation_percent.end());
-    r.insert(r.end(), length.rotation_deg_per_m.begin(), length.rotation_deg_per_m.end());
+    if (length.count() == 0) continue;
+    const double count = static_cast<double>(length.count());
+    t_sum += length.translation_percent_stats.mean * count;
+    r_sum += length.rotation_deg_per_m_stats.mean * count;
+    n += length.count();
   }
-  *translation_pct = RunMean(t);
-  *rotation_deg_m = RunMean(r);
+  *translation_pct = n == 0 ? std::nan("") : t_sum / static_cast<double>(n);
+  *rotation_deg_m = n == 0 ? std::nan("") : r_sum / static_cast<double>(n);
 }
 
 std::string AssociationText(const EvaluationProtocol& p, bool any_by_index) {
@@ -345,8 +349,8 @@ std::string EvalMarkdown(const EvalReport& report) {
         const auto& rel = run.evaluation.relative[k];
         segments += rel.count();
         if (rel.count() == 0) continue;
-        t.push_back(RunMean(rel.translation_percent));
-        r.push_back(RunMean(rel.rotation_deg_per_m));
+        t.push_back(rel.translation_percent_stats.mean);
+        r.push_back(rel.rotation_deg_per_m_stats.mean);
       }
       md += fmt::format("| {} | {:g} | {} | {} | {} |\n", e.label,
                         report.protocol.relative_lengths_m[k], segments,

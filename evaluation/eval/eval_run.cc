@@ -29,7 +29,7 @@ std::vector<StampedPose> AlignedEstimate(const std::vector<StampedPose>& estimat
 
 EvalRun EvaluateRun(const std::string& file, const LoadedTrajectory& estimate,
                     const LoadedTrajectory& truth, const EvaluationProtocol& protocol,
-                    const std::string& truth_path) {
+                    const std::string& truth_path, bool keep_aligned_estimate) {
   EvalRun run;
   run.file = file;
   run.input = estimate.report;
@@ -43,19 +43,19 @@ EvalRun EvaluateRun(const std::string& file, const LoadedTrajectory& estimate,
                                    "associated by index, as evo does)",
                                    estimate.report.has_stamps ? truth_path : file,
                                    estimate.report.has_stamps ? file : truth_path));
-    if (estimate.states.size() != truth.states.size())
+    if (estimate.poses.size() != truth.poses.size())
       throw InputError(file, 0, "",
                        fmt::format("KITTI files without times are associated by index (as evo "
                                    "does), which needs as many poses as the ground truth: {} here, "
                                    "{} in {}",
-                                   estimate.states.size(), truth.states.size(), truth_path));
+                                   estimate.poses.size(), truth.poses.size(), truth_path));
     run.by_index = true;
     p.association = AssociationMode::kNearest;
     p.max_dt_s = 0.01;
     p.time_offset_s = 0.0;
   }
-  const std::vector<StampedPose> est = estimate.Poses();
-  const std::vector<StampedPose> gt = truth.Poses();
+  const std::vector<StampedPose>& est = estimate.poses;
+  const std::vector<StampedPose>& gt = truth.poses;
   std::string why;
   TrajectoryDiagnostics diagnostics;
   auto evaluation = EvaluateTrajectory(est, gt, p, &why, &diagnostics);
@@ -74,7 +74,8 @@ EvalRun EvaluateRun(const std::string& file, const LoadedTrajectory& estimate,
                      "cannot evaluate: " + why + (fixes.empty() ? "" : " (note: " + fixes + ")"));
   }
   run.evaluation = std::move(*evaluation);
-  run.aligned_estimate = AlignedEstimate(est, run.evaluation, p.time_offset_s);
+  if (keep_aligned_estimate)
+    run.aligned_estimate = AlignedEstimate(est, run.evaluation, p.time_offset_s);
   return run;
 }
 

@@ -18,7 +18,8 @@ struct EvalRun {
   TrajectoryReadReport input;
   bool by_index = false;  // KITTI without times: associated by index (evo)
   TrajectoryEvaluation evaluation;
-  std::vector<StampedPose> aligned_estimate;  // in the truth's frame, time offset applied
+  std::vector<StampedPose>
+      aligned_estimate;  // in the truth's frame, time offset applied (or empty)
 };
 
 struct EvalEstimate {
@@ -37,10 +38,11 @@ struct EvalReport {
 };
 
 // Evaluates one run; throws InputError naming the estimate file when nothing can be computed (the
-// ground truth was checked to have two poses), with the rows its reader dropped, if any.
+// ground truth was checked to have two poses), with the rows its reader dropped, if any. The
+// aligned estimate (for the report's files) is kept only when asked for.
 EvalRun EvaluateRun(const std::string& file, const LoadedTrajectory& estimate,
                     const LoadedTrajectory& truth, const EvaluationProtocol& protocol,
-                    const std::string& truth_path);
+                    const std::string& truth_path, bool keep_aligned_estimate);
 
 // The estimate mapped by the evaluation's alignment into the truth's frame, stamps shifted by the
 // time offset.

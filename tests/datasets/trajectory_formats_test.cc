@@ -308,10 +308,10 @@ TEST_P(TrajectoryReaderAccepts, Variant) {
   options.sort = c.sort;
   const LoadedTrajectory t = ReadTrajectory(path, options);
   EXPECT_EQ(t.report.format, c.expected_format) << t.report.layout;
-  ASSERT_EQ(t.states.size(), c.expected_poses) << t.report.layout;
-  EXPECT_EQ(t.states[0].t_ns, c.t0_ns);
-  EXPECT_TRUE(t.states[0].T_W_B.p.isApprox(c.p0, 1e-12)) << t.states[0].T_W_B.p.transpose();
-  const Eigen::Quaterniond& q = t.states[0].T_W_B.q;
+  ASSERT_EQ(t.poses.size(), c.expected_poses) << t.report.layout;
+  EXPECT_EQ(t.poses[0].t_ns, c.t0_ns);
+  EXPECT_TRUE(t.poses[0].T_W_B.p.isApprox(c.p0, 1e-12)) << t.poses[0].T_W_B.p.transpose();
+  const Eigen::Quaterniond& q = t.poses[0].T_W_B.q;
   EXPECT_NEAR(
       std::abs(q.coeffs().dot(
           Eigen::Quaterniond(c.q0_wxyz[0], c.q0_wxyz[1], c.q0_wxyz[2], c.q0_wxyz[3]).coeffs())),
@@ -320,7 +320,7 @@ TEST_P(TrajectoryReaderAccepts, Variant) {
   EXPECT_EQ(t.report.duplicates_dropped, c.expected_duplicates);
   EXPECT_EQ(t.report.first_duplicate_line, c.expected_first_duplicate_line);
   EXPECT_EQ(t.report.has_velocity, c.expected_velocity);
-  for (size_t i = 1; i < t.states.size(); ++i) EXPECT_LT(t.states[i - 1].t_ns, t.states[i].t_ns);
+  for (size_t i = 1; i < t.poses.size(); ++i) EXPECT_LT(t.poses[i - 1].t_ns, t.poses[i].t_ns);
   EXPECT_FALSE(t.report.layout.empty());
 }
 
@@ -335,8 +335,8 @@ TEST(TrajectoryReader, ReportsWhatWasFixed) {
   TrajectoryReadOptions options;
   options.sort = true;
   const LoadedTrajectory t = ReadTrajectory(dir + "/t.txt", options);
-  ASSERT_EQ(t.states.size(), 3u);
-  EXPECT_EQ(t.states[1].t_ns, 1'500'000'000);
+  ASSERT_EQ(t.poses.size(), 3u);
+  EXPECT_EQ(t.poses[1].t_ns, 1'500'000'000);
   EXPECT_TRUE(t.report.had_bom);
   EXPECT_TRUE(t.report.had_crlf);
   EXPECT_TRUE(t.report.sorted);
@@ -360,15 +360,15 @@ TEST(TrajectoryReader, KittiTimesFileGivesStamps) {
   options.times_path = dir + "/times.txt";
   const LoadedTrajectory t = ReadTrajectory(dir + "/poses.txt", options);
   EXPECT_TRUE(t.report.has_stamps);
-  ASSERT_EQ(t.states.size(), 2u);
-  EXPECT_EQ(t.states[1].t_ns, 103'606'000);
+  ASSERT_EQ(t.poses.size(), 2u);
+  EXPECT_EQ(t.poses[1].t_ns, 103'606'000);
   // Row 2: a rotation of +90 deg about z.
-  EXPECT_NEAR(t.states[1].T_W_B.q.angularDistance(
+  EXPECT_NEAR(t.poses[1].T_W_B.q.angularDistance(
                   Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()))),
               0.0, 1e-12);
   const LoadedTrajectory index = ReadTrajectory(dir + "/poses.txt");
   EXPECT_FALSE(index.report.has_stamps);
-  EXPECT_EQ(index.states[1].t_ns, kNsPerSecond);
+  EXPECT_EQ(index.poses[1].t_ns, kNsPerSecond);
 }
 
 struct Refused {
@@ -580,21 +580,21 @@ TEST(TrajectoryReaderRealFiles, EurocGroundTruthInBothFormatsAgrees) {
   EXPECT_EQ(csv.report.format, TrajectoryFormat::kEuroc) << csv.report.layout;
   EXPECT_TRUE(csv.report.has_velocity);
   EXPECT_TRUE(csv.report.has_biases);
-  EXPECT_EQ(tum.states.size(), 28712u);
-  EXPECT_EQ(csv.states.size(), 999u);
+  EXPECT_EQ(tum.poses.size(), 28712u);
+  EXPECT_EQ(csv.poses.size(), 999u);
   // The CSV covers the first 5 s; TUM's stamps have 10 us resolution.
-  for (size_t i = 0; i < csv.states.size(); i += 97) {
-    EXPECT_NEAR(NsToSeconds(tum.states[i].t_ns - csv.states[i].t_ns), 0.0, 1e-5) << i;
-    EXPECT_LT((tum.states[i].T_W_B.p - csv.states[i].T_W_B.p).norm(), 1e-9) << i;
-    EXPECT_LT(tum.states[i].T_W_B.q.angularDistance(csv.states[i].T_W_B.q), 1e-9) << i;
+  for (size_t i = 0; i < csv.poses.size(); i += 97) {
+    EXPECT_NEAR(NsToSeconds(tum.poses[i].t_ns - csv.poses[i].t_ns), 0.0, 1e-5) << i;
+    EXPECT_LT((tum.poses[i].T_W_B.p - csv.poses[i].T_W_B.p).norm(), 1e-9) << i;
+    EXPECT_LT(tum.poses[i].T_W_B.q.angularDistance(csv.poses[i].T_W_B.q), 1e-9) << i;
   }
   // Forced formats read the same files the same way.
   TrajectoryReadOptions forced;
   forced.format = TrajectoryFormat::kTum;
-  EXPECT_EQ(ReadTrajectory(root + "/groundtruth_full_tum.txt", forced).states.size(), 28712u);
+  EXPECT_EQ(ReadTrajectory(root + "/groundtruth_full_tum.txt", forced).poses.size(), 28712u);
   forced.format = TrajectoryFormat::kAsl;
   EXPECT_EQ(
-      ReadTrajectory(root + "/mav0/state_groundtruth_estimate0/data.csv", forced).states.size(),
+      ReadTrajectory(root + "/mav0/state_groundtruth_estimate0/data.csv", forced).poses.size(),
       999u);
   // ... and a KITTI round trip of the real file keeps every pose.
   const std::string dir = testing::MakeTempDir();
@@ -604,9 +604,9 @@ TEST(TrajectoryReaderRealFiles, EurocGroundTruthInBothFormatsAgrees) {
   TrajectoryReadOptions kitti_options;
   kitti_options.times_path = dir + "/times.txt";
   const LoadedTrajectory kitti = ReadTrajectory(dir + "/k.txt", kitti_options);
-  ASSERT_EQ(kitti.states.size(), poses.size());
-  EXPECT_EQ(kitti.states.back().t_ns, poses.back().t_ns);
-  EXPECT_LT((kitti.states.back().T_W_B.p - poses.back().T_W_B.p).norm(), 1e-12);
+  ASSERT_EQ(kitti.poses.size(), poses.size());
+  EXPECT_EQ(kitti.poses.back().t_ns, poses.back().t_ns);
+  EXPECT_LT((kitti.poses.back().T_W_B.p - poses.back().T_W_B.p).norm(), 1e-12);
 }
 
 }  // namespace

@@ -231,13 +231,13 @@ TEST(TrajectoryTextThroughReader, StampAndNumberForms) {
       "\r\n"
       "1403636579.7635555845 +1 2. .5 0 0 0.6 0.8\r\n"
       "1.403636580e9 0 0 0 0 0 0 1");
-  ASSERT_EQ(t.states.size(), 3u);
-  EXPECT_EQ(t.states[0].t_ns, 1403636579763555584);
-  EXPECT_EQ(t.states[1].t_ns, 1403636579763555585);
-  EXPECT_EQ(t.states[2].t_ns, 1403636580000000000);
-  EXPECT_EQ(t.states[0].T_W_B.p, Eigen::Vector3d(1.5, -250.0, 1e-3));
-  EXPECT_EQ(t.states[1].T_W_B.p, Eigen::Vector3d(1.0, 2.0, 0.5));
-  EXPECT_NEAR(t.states[1].T_W_B.q.z(), 0.6, 1e-15);
+  ASSERT_EQ(t.poses.size(), 3u);
+  EXPECT_EQ(t.poses[0].t_ns, 1403636579763555584);
+  EXPECT_EQ(t.poses[1].t_ns, 1403636579763555585);
+  EXPECT_EQ(t.poses[2].t_ns, 1403636580000000000);
+  EXPECT_EQ(t.poses[0].T_W_B.p, Eigen::Vector3d(1.5, -250.0, 1e-3));
+  EXPECT_EQ(t.poses[1].T_W_B.p, Eigen::Vector3d(1.0, 2.0, 0.5));
+  EXPECT_NEAR(t.poses[1].T_W_B.q.z(), 0.6, 1e-15);
   EXPECT_TRUE(t.report.had_crlf);
   EXPECT_EQ(t.report.rows, 3u);
 }
@@ -281,19 +281,19 @@ TEST(TrajectoryTextThroughReader, SortAndRepeatedStamps) {
       "3.0 3 0 0 0 0 0 1\n1.0 1 0 0 0 0 0 1\n2.0 2 0 0 0 0 0 1\n1.0 9 0 0 0 0 0 1\n"
       "3.0 8 0 0 0 0 0 1\n",
       options);
-  ASSERT_EQ(t.states.size(), 3u);
-  EXPECT_EQ(t.states[0].T_W_B.p.x(), 1.0);
-  EXPECT_EQ(t.states[1].T_W_B.p.x(), 2.0);
-  EXPECT_EQ(t.states[2].T_W_B.p.x(), 3.0);
+  ASSERT_EQ(t.poses.size(), 3u);
+  EXPECT_EQ(t.poses[0].T_W_B.p.x(), 1.0);
+  EXPECT_EQ(t.poses[1].T_W_B.p.x(), 2.0);
+  EXPECT_EQ(t.poses[2].T_W_B.p.x(), 3.0);
   EXPECT_EQ(t.report.rows_out_of_order, 3u);
   EXPECT_EQ(t.report.first_out_of_order_line, 2);
   EXPECT_EQ(t.report.duplicates_dropped, 2u);
   EXPECT_EQ(t.report.first_duplicate_line, 4);
   const LoadedTrajectory unsorted =
       ReadBytes("1.0 1 0 0 0 0 0 1\n1.0 9 0 0 0 0 0 1\n2.0 2 0 0 0 0 0 1\n");
-  ASSERT_EQ(unsorted.states.size(), 2u);
-  EXPECT_EQ(unsorted.states[0].T_W_B.p.x(), 1.0);
-  EXPECT_EQ(unsorted.states[1].T_W_B.p.x(), 2.0);
+  ASSERT_EQ(unsorted.poses.size(), 2u);
+  EXPECT_EQ(unsorted.poses[0].T_W_B.p.x(), 1.0);
+  EXPECT_EQ(unsorted.poses[1].T_W_B.p.x(), 2.0);
   EXPECT_EQ(unsorted.report.first_duplicate_line, 2);
 }
 

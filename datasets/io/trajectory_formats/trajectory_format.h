@@ -85,10 +85,20 @@ struct TrajectoryReadReport {
   std::vector<std::string> log_notes;
 };
 
+// Velocity and biases of one pose, when the file has them.
+struct TrajectoryMotion {
+  Eigen::Vector3d v_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d b_g = Eigen::Vector3d::Zero();  // gyro bias, rad/s
+  Eigen::Vector3d b_a = Eigen::Vector3d::Zero();  // accelerometer bias, m/s^2
+};
+
+// The poses alone unless the file has velocities or biases (a million poses: 64 MB).
 struct LoadedTrajectory {
-  std::vector<GroundTruthState> states;  // sorted, unique stamps
+  std::vector<StampedPose> poses;        // sorted, unique stamps
+  std::vector<TrajectoryMotion> motion;  // one per pose when report.has_velocity or has_biases
   TrajectoryReadReport report;
-  std::vector<StampedPose> Poses() const;
+  const std::vector<StampedPose>& Poses() const { return poses; }
+  std::vector<GroundTruthState> States() const;  // poses with their motion (zero without)
 };
 
 // Throws InputError (file:line, field) for anything it cannot read: missing file, no data rows, a

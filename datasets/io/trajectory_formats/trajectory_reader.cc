@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <numeric>
 
 #include "core/errors.h"
@@ -29,7 +30,9 @@ struct PoseRowFields {
 
 double Number(const std::string& path, const PoseRowFields& row, const PoseColumnLayout& layout,
               int column) {
-  return RequireDoubleText(row.fields[column], path, row.line, layout.Name(column));
+  const ParsedNumber<double> parsed = ParseDoubleText(row.fields[column]);
+  if (parsed.ok()) return parsed.value;
+  return RequireDoubleText(row.fields[column], path, row.line, layout.Name(column));  // throws
 }
 
 // The row's attitude: its quaternion (normalised within kQuaternionNormTolerance, counted in the
@@ -87,11 +90,28 @@ Eigen::Vector3d Vector(const std::string& path, const PoseRowFields& row,
   return v;
 }
 
-// The rows of a file as they are read, before ordering: states and their lines, index by index.
+// The rows of a file as they are read, before ordering: poses, their motion (when the file has
+// it) and their lines, index by index.
 struct ParsedRows {
-  std::vector<GroundTruthState> states;
+  std::vector<StampedPose> poses;
+  std::vector<TrajectoryMotion> motion;
   std::vector<long> lines;
 };
+
+// A TrajectoryText of the stream's first data row alone: what format detection and the layout
+// look at (the header and the first row).
+TrajectoryText HeadText(const TrajectoryRowStream& stream, long line, std::string_view row) {
+  TrajectoryText head;
+  head.path = stream.path();
+  head.header = stream.header();
+  head.header_line = stream.header_line();
+  head.comma_separated = stream.comma_separated();
+  head.had_bom = stream.had_bom();
+  head.storage = std::string(row);
+  head.bytes = head.storage;
+  head.rows.push_back(TrajectoryRow{line, 0, row.size()});
+  return head;
+}
 
 // "TUM", "EuRoC", ... for messages.
 std::string FormatDisplayName(TrajectoryFormat format) {
@@ -149,51 +169,73 @@ PoseColumnLayout ChooseLayout(const TrajectoryText& text, TrajectoryFormat forma
 // like seconds (trajectory_stamps.h), before any other column is read: the wrong layout is the
 // reason, not the quaternion it would then take from the wrong columns. Rows whose stamp does not
 // parse are left to ParsePoseRows.
-void RequirePlausibleNanoseconds(const TrajectoryText& text, const PoseColumnLayout& layout) {
+void RequirePlausibleNanoseconds(const TrajectoryText& head, const PoseColumnLayout& layout) {
   if (layout.unit != StampUnit::kNanoseconds || layout.unit_stated) return;
   std::vector<TimeNs> stamps;
-  stamps.reserve(text.rows.size());
   std::vector<std::string_view> fields;
-  for (const TrajectoryRow& row : text.rows) {
-    text.Fields(row, &fields);
+  TrajectoryRowStream stream(head.path);
+  long line = 0;
+  std::string_view text;
+  while (stream.Next(&line, &text)) {
+    SplitTrajectoryFields(text, stream.comma_separated(), &fields);
     TimeNs t_ns = 0;
     if (static_cast<size_t>(layout.t) < fields.size() && ParseNanoseconds(fields[layout.t], &t_ns))
       stamps.push_back(t_ns);
   }
   const std::string why = SecondsReadAsNanoseconds(stamps);
   if (!why.empty())
-    throw InputError(text.path, text.rows.front().line, layout.Name(layout.t),
+    throw InputError(head.path, head.rows.front().line, layout.Name(layout.t),
                      "not read as " + layout.description + ": " + why);
 }
 
-ParsedRows ParsePoseRows(const TrajectoryText& text, const PoseColumnLayout& layout,
-                         TrajectoryReadReport* report) {
-  RequirePlausibleNanoseconds(text, layout);
+// One row into *rows (throws InputError naming the file, line and field).
+void ParsePoseRow(const std::string& path, const PoseRowFields& row, const PoseColumnLayout& layout,
+                  ParsedRows* rows, TrajectoryReadReport* report) {
+  RequireFieldCount(path, row, layout);
+  StampedPose& pose = rows->poses.emplace_back();
+  rows->lines.push_back(row.line);
+  const std::string_view stamp = row.fields[layout.t];
+  const bool ok = layout.unit == StampUnit::kSeconds ? ParseSecondsAsNs(stamp, &pose.t_ns)
+                                                     : ParseNanoseconds(stamp, &pose.t_ns);
+  if (!ok)
+    throw InputError(path, row.line, layout.Name(layout.t),
+                     DescribeBadStamp(std::string(stamp), layout.unit == StampUnit::kSeconds,
+                                      FormatDisplayName(layout.format)));
+  pose.T_W_B.p = Vector(path, row, layout, layout.p, limits::kMaxPosition_m, "m");
+  pose.T_W_B.q = Attitude(path, row, layout, report);
+  if (!layout.HasVelocity() && !layout.HasBiases()) return;
+  TrajectoryMotion& motion = rows->motion.emplace_back();
+  if (layout.HasVelocity())
+    motion.v_W = Vector(path, row, layout, layout.v, limits::kMaxSpeed_m_s, "m/s");
+  if (layout.HasBiases()) {
+    motion.b_g = Vector(path, row, layout, layout.b_g, limits::kMaxGyroBias_rad_s, "rad/s");
+    motion.b_a = Vector(path, row, layout, layout.b_a, limits::kMaxAccelBias_m_s2, "m/s^2");
+  }
+}
+
+// Every data row of the stream, the head's first: parsed as it is read (the file's text is never
+// held whole). Room for the poses is reserved from the file's size and the first row's length
+// (pages never written cost no memory).
+ParsedRows ParsePoseRows(const TrajectoryText& head, TrajectoryRowStream* stream,
+                         const PoseColumnLayout& layout, TrajectoryReadReport* report) {
+  RequirePlausibleNanoseconds(head, layout);
   ParsedRows rows;
-  rows.states.reserve(text.rows.size());
-  rows.lines.reserve(text.rows.size());
+  std::error_code size_error;
+  const auto file_size = std::filesystem::file_size(head.path, size_error);
+  if (!size_error) {
+    const size_t expected = static_cast<size_t>(file_size) / (head.bytes.size() / 2 + 1) + 16;
+    rows.poses.reserve(expected);
+    rows.lines.reserve(expected);
+    if (layout.HasVelocity() || layout.HasBiases()) rows.motion.reserve(expected);
+  }
   PoseRowFields row;
-  for (const TrajectoryRow& text_row : text.rows) {
-    row.line = text_row.line;
-    text.Fields(text_row, &row.fields);
-    RequireFieldCount(text.path, row, layout);
-    GroundTruthState& state = rows.states.emplace_back();
-    rows.lines.push_back(row.line);
-    const std::string_view stamp = row.fields[layout.t];
-    const bool ok = layout.unit == StampUnit::kSeconds ? ParseSecondsAsNs(stamp, &state.t_ns)
-                                                       : ParseNanoseconds(stamp, &state.t_ns);
-    if (!ok)
-      throw InputError(text.path, row.line, layout.Name(layout.t),
-                       DescribeBadStamp(std::string(stamp), layout.unit == StampUnit::kSeconds,
-                                        FormatDisplayName(layout.format)));
-    state.T_W_B.p = Vector(text.path, row, layout, layout.p, limits::kMaxPosition_m, "m");
-    state.T_W_B.q = Attitude(text.path, row, layout, report);
-    if (layout.HasVelocity())
-      state.v_W = Vector(text.path, row, layout, layout.v, limits::kMaxSpeed_m_s, "m/s");
-    if (layout.HasBiases()) {
-      state.b_g = Vector(text.path, row, layout, layout.b_g, limits::kMaxGyroBias_rad_s, "rad/s");
-      state.b_a = Vector(text.path, row, layout, layout.b_a, limits::kMaxAccelBias_m_s2, "m/s^2");
-    }
+  row.line = head.rows.front().line;
+  head.Fields(head.rows.front(), &row.fields);
+  ParsePoseRow(head.path, row, layout, &rows, report);
+  std::string_view text;
+  while (stream->Next(&row.line, &text)) {
+    SplitTrajectoryFields(text, stream->comma_separated(), &row.fields);
+    ParsePoseRow(head.path, row, layout, &rows, report);
   }
   report->has_velocity = layout.HasVelocity();
   report->has_biases = layout.HasBiases();
@@ -204,44 +246,45 @@ ParsedRows ParsePoseRows(const TrajectoryText& text, const PoseColumnLayout& lay
 // only when sorting was asked for and a row is out of order, repeated stamps removed by moving the
 // kept rows forward. stamp_path / stamp_field name where the stamps came from (the times file for
 // KITTI).
-std::vector<GroundTruthState> OrderRows(ParsedRows rows, const std::string& stamp_path,
-                                        const std::string& stamp_field,
-                                        const TrajectoryReadOptions& options,
-                                        TrajectoryReadReport* report) {
-  std::vector<GroundTruthState>& states = rows.states;
+void OrderRows(ParsedRows rows, const std::string& stamp_path, const std::string& stamp_field,
+               const TrajectoryReadOptions& options, LoadedTrajectory* out) {
+  TrajectoryReadReport* report = &out->report;
+  std::vector<StampedPose>& poses = rows.poses;
+  std::vector<TrajectoryMotion>& motion = rows.motion;
   std::vector<long>& lines = rows.lines;
+  const bool has_motion = !motion.empty();
   if (options.sort) {
     report->sorted = true;
     TimeNs latest = 0;
-    for (size_t i = 0; i < states.size(); ++i) {
-      if (i > 0 && states[i].t_ns < latest) {
+    for (size_t i = 0; i < poses.size(); ++i) {
+      if (i > 0 && poses[i].t_ns < latest) {
         ++report->rows_out_of_order;
         if (report->first_out_of_order_line == 0) report->first_out_of_order_line = lines[i];
       }
-      latest = i == 0 ? states[i].t_ns : std::max(latest, states[i].t_ns);
+      latest = i == 0 ? poses[i].t_ns : std::max(latest, poses[i].t_ns);
     }
     if (report->rows_out_of_order > 0) {
-      std::vector<size_t> order(states.size());
+      std::vector<size_t> order(poses.size());
       std::iota(order.begin(), order.end(), size_t{0});
       std::stable_sort(order.begin(), order.end(),
-                       [&](size_t a, size_t b) { return states[a].t_ns < states[b].t_ns; });
-      std::vector<GroundTruthState> sorted_states;
-      std::vector<long> sorted_lines;
-      sorted_states.reserve(states.size());
-      sorted_lines.reserve(states.size());
+                       [&](size_t a, size_t b) { return poses[a].t_ns < poses[b].t_ns; });
+      ParsedRows sorted;
+      sorted.poses.reserve(poses.size());
+      sorted.lines.reserve(poses.size());
+      if (has_motion) sorted.motion.reserve(poses.size());
       for (size_t i : order) {
-        sorted_states.push_back(states[i]);
-        sorted_lines.push_back(lines[i]);
+        sorted.poses.push_back(poses[i]);
+        sorted.lines.push_back(lines[i]);
+        if (has_motion) sorted.motion.push_back(motion[i]);
       }
-      states = std::move(sorted_states);
-      lines = std::move(sorted_lines);
+      rows = std::move(sorted);
     }
   }
   size_t kept = 0;
-  for (size_t i = 0; i < states.size(); ++i) {
+  for (size_t i = 0; i < poses.size(); ++i) {
     if (kept > 0) {
-      const TimeNs previous = states[kept - 1].t_ns;
-      const TimeNs t_ns = states[i].t_ns;
+      const TimeNs previous = poses[kept - 1].t_ns;
+      const TimeNs t_ns = poses[i].t_ns;
       if (t_ns < previous)
         throw InputError(stamp_path, lines[i], stamp_field,
                          fmt::format("timestamp {} is earlier than the previous row's ({}); "
@@ -257,11 +300,16 @@ std::vector<GroundTruthState> OrderRows(ParsedRows rows, const std::string& stam
         continue;
       }
     }
-    if (kept != i) states[kept] = states[i];
+    if (kept != i) {
+      poses[kept] = poses[i];
+      if (has_motion) motion[kept] = motion[i];
+    }
     ++kept;
   }
-  states.resize(kept);
-  return std::move(states);
+  poses.resize(kept);
+  if (has_motion) motion.resize(kept);
+  out->poses = std::move(poses);
+  out->motion = std::move(motion);
 }
 
 }  // namespace
@@ -282,7 +330,11 @@ LoadedTrajectory ReadLogTopicTrajectory(const LogTopicSpec& spec, const std::str
                          ": eval needs full poses (compare per quantity with `mavloc compare "
                          "--reference LOG:TOPIC`)");
   LoadedTrajectory out;
-  out.states = trajectory.states;
+  out.poses.reserve(trajectory.states.size());
+  for (const GroundTruthState& s : trajectory.states) out.poses.push_back({s.t_ns, s.T_W_B});
+  if (trajectory.has_velocity)
+    for (const GroundTruthState& s : trajectory.states)
+      out.motion.push_back(TrajectoryMotion{s.v_W, s.b_g, s.b_a});
   out.report.path = path;
   out.report.format = TrajectoryFormat::kLog;
   out.report.layout =
@@ -321,77 +373,97 @@ std::string TrajectoryFormatName(TrajectoryFormat format) {
   return "?";
 }
 
-std::vector<StampedPose> LoadedTrajectory::Poses() const {
-  std::vector<StampedPose> poses;
-  poses.reserve(states.size());
-  for (const auto& s : states) poses.push_back({s.t_ns, s.T_W_B});
-  return poses;
+std::vector<GroundTruthState> LoadedTrajectory::States() const {
+  std::vector<GroundTruthState> states(poses.size());
+  for (size_t i = 0; i < poses.size(); ++i) {
+    states[i].t_ns = poses[i].t_ns;
+    states[i].T_W_B = poses[i].T_W_B;
+    if (i < motion.size()) {
+      states[i].v_W = motion[i].v_W;
+      states[i].b_g = motion[i].b_g;
+      states[i].b_a = motion[i].b_a;
+    }
+  }
+  return states;
 }
+
+namespace {
+
+// A KITTI pose file (and its times file): read whole, 12 numbers a row.
+LoadedTrajectory ReadKittiTrajectory(const std::string& path, const TrajectoryReadOptions& options,
+                                     LoadedTrajectory out) {
+  TrajectoryReadReport& report = out.report;
+  const TrajectoryText text = ReadTrajectoryText(path);
+  report.rows = text.rows.size();
+  report.had_crlf = text.had_crlf;
+  const KittiRowsResult kitti = ParseKittiRows(text);
+  ParsedRows rows;
+  rows.poses.resize(kitti.poses.size());
+  rows.lines.resize(kitti.poses.size());
+  std::string stamp_path = path, stamp_field = "index";
+  if (!options.times_path.empty()) {
+    const KittiTimes times = ReadKittiTimes(options.times_path);
+    if (times.t_ns.size() != kitti.poses.size())
+      throw InputError(options.times_path, 0, "",
+                       fmt::format("has {} stamps but '{}' has {} poses", times.t_ns.size(), path,
+                                   kitti.poses.size()));
+    for (size_t i = 0; i < rows.poses.size(); ++i) {
+      rows.poses[i].t_ns = times.t_ns[i];
+      rows.lines[i] = times.lines[i];
+    }
+    stamp_path = options.times_path;
+    stamp_field = "timestamp";
+    report.times_path = options.times_path;
+  } else {
+    report.has_stamps = false;
+    for (size_t i = 0; i < rows.poses.size(); ++i) {
+      rows.poses[i].t_ns = static_cast<TimeNs>(i) * kNsPerSecond;
+      rows.lines[i] = kitti.lines[i];
+    }
+  }
+  for (size_t i = 0; i < rows.poses.size(); ++i) rows.poses[i].T_W_B = kitti.poses[i];
+  report.quaternions_normalised = kitti.rotations_projected;
+  report.max_quaternion_norm_error = kitti.max_orthonormality_error;
+  report.layout =
+      options.times_path.empty()
+          ? "kitti (12 columns: T_W_C 3x4 row-major; no times file: pose i at i s, "
+            "associated by index)"
+          : "kitti (12 columns: T_W_C 3x4 row-major; stamps from " + options.times_path + ")";
+  OrderRows(std::move(rows), stamp_path, stamp_field, options, &out);
+  return out;
+}
+
+}  // namespace
 
 LoadedTrajectory ReadTrajectory(const std::string& path, const TrajectoryReadOptions& options) {
   if (const auto log_topic = ParseLogTopicSpec(path))
     return ReadLogTopicTrajectory(*log_topic, path, options);
-  TrajectoryText text = ReadTrajectoryText(path);
-  if (text.rows.empty()) throw InputError(path, 0, "", "file has no data rows");
+  TrajectoryRowStream stream(path);
+  long first_line = 0;
+  std::string_view first_row;
+  if (!stream.Next(&first_line, &first_row)) throw InputError(path, 0, "", "file has no data rows");
+  const TrajectoryText head = HeadText(stream, first_line, first_row);
   LoadedTrajectory out;
   TrajectoryReadReport& report = out.report;
   report.path = path;
-  report.rows = text.rows.size();
-  report.had_bom = text.had_bom;
-  report.had_crlf = text.had_crlf;
+  report.had_bom = stream.had_bom();
   report.format_forced = options.format != TrajectoryFormat::kAuto;
-  report.format = report.format_forced ? options.format : DetectTrajectoryFormat(text);
+  report.format = report.format_forced ? options.format : DetectTrajectoryFormat(head);
   if (!options.times_path.empty() && report.format != TrajectoryFormat::kKitti)
     throw InputError(options.times_path, 0, "",
                      "a times file is only used with KITTI pose files, and '" + path + "' is " +
                          TrajectoryFormatName(report.format));
+  if (report.format == TrajectoryFormat::kKitti)
+    return ReadKittiTrajectory(path, options, std::move(out));
 
-  if (report.format == TrajectoryFormat::kKitti) {
-    const KittiRowsResult kitti = ParseKittiRows(text);
-    ParsedRows rows;
-    rows.states.resize(kitti.poses.size());
-    rows.lines.resize(kitti.poses.size());
-    std::string stamp_path = path, stamp_field = "index";
-    if (!options.times_path.empty()) {
-      const KittiTimes times = ReadKittiTimes(options.times_path);
-      if (times.t_ns.size() != kitti.poses.size())
-        throw InputError(options.times_path, 0, "",
-                         fmt::format("has {} stamps but '{}' has {} poses", times.t_ns.size(), path,
-                                     kitti.poses.size()));
-      for (size_t i = 0; i < rows.states.size(); ++i) {
-        rows.states[i].t_ns = times.t_ns[i];
-        rows.lines[i] = times.lines[i];
-      }
-      stamp_path = options.times_path;
-      stamp_field = "timestamp";
-      report.times_path = options.times_path;
-    } else {
-      report.has_stamps = false;
-      for (size_t i = 0; i < rows.states.size(); ++i) {
-        rows.states[i].t_ns = static_cast<TimeNs>(i) * kNsPerSecond;
-        rows.lines[i] = kitti.lines[i];
-      }
-    }
-    for (size_t i = 0; i < rows.states.size(); ++i) rows.states[i].T_W_B = kitti.poses[i];
-    report.quaternions_normalised = kitti.rotations_projected;
-    report.max_quaternion_norm_error = kitti.max_orthonormality_error;
-    report.layout =
-        options.times_path.empty()
-            ? "kitti (12 columns: T_W_C 3x4 row-major; no times file: pose i at i s, "
-              "associated by index)"
-            : "kitti (12 columns: T_W_C 3x4 row-major; stamps from " + options.times_path + ")";
-    out.states = OrderRows(std::move(rows), stamp_path, stamp_field, options, &report);
-    return out;
-  }
-
-  const PoseColumnLayout layout = ChooseLayout(text, report.format, report.format_forced);
+  const PoseColumnLayout layout = ChooseLayout(head, report.format, report.format_forced);
   report.format = layout.format == TrajectoryFormat::kAsl || !report.format_forced ? layout.format
                                                                                    : report.format;
   report.layout = layout.description;
-  ParsedRows rows = ParsePoseRows(text, layout, &report);
-  // The file's bytes are not needed any more: freed before the rows are ordered.
-  text = TrajectoryText();
-  out.states = OrderRows(std::move(rows), path, layout.Name(layout.t), options, &report);
+  ParsedRows rows = ParsePoseRows(head, &stream, layout, &report);
+  report.rows = rows.poses.size();
+  report.had_crlf = stream.had_crlf();
+  OrderRows(std::move(rows), path, layout.Name(layout.t), options, &out);
   return out;
 }
 

@@ -35,36 +35,6 @@ bool StartsWithNumber(std::string_view text) {
   return status != NumberTextStatus::kEmpty && status != NumberTextStatus::kNotANumber;
 }
 
-// The whole file, read in blocks into *storage (sized from the file's size, grown when the file
-// holds more); returns the number of bytes read. Throws InputError (file) when the file cannot be
-// opened or read.
-size_t ReadTrajectoryBytes(const std::string& path, std::unique_ptr<char[]>* storage) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
-                                                       &std::fclose);
-  if (!file) throw InputError(path, 0, "", "cannot open file");
-  std::error_code size_error;
-  const auto file_size = std::filesystem::file_size(path, size_error);
-  constexpr size_t kBlockBytes = size_t{1} << 20;
-  size_t capacity = size_error ? kBlockBytes : static_cast<size_t>(file_size) + 1;
-  *storage = std::unique_ptr<char[]>(new char[capacity]);
-  size_t used = 0;
-  while (true) {
-    if (used == capacity) {
-      const size_t grown = 2 * capacity;
-      std::unique_ptr<char[]> larger(new char[grown]);
-      std::memcpy(larger.get(), storage->get(), used);
-      *storage = std::move(larger);
-      capacity = grown;
-    }
-    const size_t want = std::min(kBlockBytes, capacity - used);
-    const size_t got = std::fread(storage->get() + used, 1, want, file.get());
-    used += got;
-    if (got < want) break;
-  }
-  if (std::ferror(file.get())) throw InputError(path, 0, "", "cannot read file");
-  return used;
-}
-
 }  // namespace
 
 void SplitTrajectoryFields(std::string_view line, bool comma_separated,
@@ -110,70 +80,118 @@ std::vector<std::string_view> TrajectoryText::Fields(const TrajectoryRow& row) c
   return fields;
 }
 
-TrajectoryText ReadTrajectoryText(const std::string& path) {
+TrajectoryRowStream::TrajectoryRowStream(const std::string& path)
+    : path_(path), file_(nullptr, &std::fclose) {
   namespace fs = std::filesystem;
   if (!fs::exists(path)) throw InputError(path, 0, "", "file does not exist");
   if (fs::is_directory(path)) throw InputError(path, 0, "", "is a folder, not a file");
-  TrajectoryText text;
-  text.path = path;
-  const size_t size = ReadTrajectoryBytes(path, &text.storage);
-  text.bytes = std::string_view(text.storage.get(), size);
-  const std::string_view bytes = text.bytes;
-  if (!bytes.empty()) text.rows.reserve(bytes.size() / 64);
+  file_.reset(std::fopen(path.c_str(), "rb"));
+  if (!file_) throw InputError(path, 0, "", "cannot open file");
+  buffer_.resize(size_t{1} << 20);
+}
+
+bool TrajectoryRowStream::Refill() {
+  if (at_eof_) return false;
+  if (begin_ > 0) {  // keep the unread bytes, at the front
+    std::memmove(buffer_.data(), buffer_.data() + begin_, end_ - begin_);
+    end_ -= begin_;
+    scanned_ -= begin_;
+    begin_ = 0;
+  }
+  if (end_ == buffer_.size()) buffer_.resize(2 * buffer_.size());  // a line longer than the buffer
+  const size_t want = buffer_.size() - end_;
+  const size_t got = std::fread(buffer_.data() + end_, 1, want, file_.get());
+  end_ += got;
+  if (got < want) {
+    if (std::ferror(file_.get())) throw InputError(path_, 0, "", "cannot read file");
+    at_eof_ = true;
+  }
+  return got > 0;
+}
+
+// Lines as std::getline gives them: split at '\n', the last one without a '\n' included, none after
+// a final '\n'.
+bool TrajectoryRowStream::NextLine(std::string_view* line) {
+  while (true) {
+    const void* newline = std::memchr(buffer_.data() + scanned_, '\n', end_ - scanned_);
+    if (newline != nullptr) {
+      const size_t at = static_cast<size_t>(static_cast<const char*>(newline) - buffer_.data());
+      *line = std::string_view(buffer_.data() + begin_, at - begin_);
+      begin_ = scanned_ = at + 1;
+      return true;
+    }
+    scanned_ = end_;
+    if (!Refill()) break;
+  }
+  if (begin_ == end_) return false;
+  *line = std::string_view(buffer_.data() + begin_, end_ - begin_);
+  begin_ = scanned_ = end_;
+  return true;
+}
+
+bool TrajectoryRowStream::Next(long* line_number, std::string_view* text) {
+  std::string_view line;
   std::vector<std::string_view> fields;
-  long number = 0;
-  bool header_row_checked = false;
-  size_t line_begin = 0;
-  // Lines as std::getline gives them: split at '\n', the last one without a '\n' included, none
-  // after a final '\n'.
-  while (line_begin < bytes.size()) {
-    const void* newline = std::memchr(bytes.data() + line_begin, '\n', bytes.size() - line_begin);
-    const size_t line_end =
-        newline == nullptr ? bytes.size()
-                           : static_cast<size_t>(static_cast<const char*>(newline) - bytes.data());
-    std::string_view line = bytes.substr(line_begin, line_end - line_begin);
-    line_begin = line_end + 1;
-    ++number;
-    if (number == 1 && line.size() >= 3 && static_cast<unsigned char>(line[0]) == 0xEF &&
+  while (NextLine(&line)) {
+    ++number_;
+    if (number_ == 1 && line.size() >= 3 && static_cast<unsigned char>(line[0]) == 0xEF &&
         static_cast<unsigned char>(line[1]) == 0xBB &&
         static_cast<unsigned char>(line[2]) == 0xBF) {
       line.remove_prefix(3);
-      text.had_bom = true;
+      had_bom_ = true;
     }
     if (!line.empty() && line.back() == '\r') {
       line.remove_suffix(1);
-      text.had_crlf = true;
+      had_crlf_ = true;
     }
     const std::string_view trimmed = TrimTrajectoryView(line);
     if (trimmed.empty()) continue;
     if (trimmed.front() == '#') {
-      if (text.rows.empty()) {
-        text.header_line = std::string(TrimTrajectoryView(trimmed.substr(1)));
-        text.header =
-            SplitTrajectoryLine(text.header_line, text.header_line.find(',') != std::string::npos);
+      if (!first_row_seen_) {
+        header_line_ = std::string(TrimTrajectoryView(trimmed.substr(1)));
+        header_ = SplitTrajectoryLine(header_line_, header_line_.find(',') != std::string::npos);
       }
       continue;
     }
-    const TrajectoryRow row{number, static_cast<size_t>(trimmed.data() - bytes.data()),
-                            trimmed.size()};
-    if (text.rows.empty() && !header_row_checked) {
-      header_row_checked = true;
-      text.comma_separated = trimmed.find(',') != std::string_view::npos;
-      SplitTrajectoryFields(trimmed, text.comma_separated, &fields);
-      // "timestamp,x,y,z,..." without '#': a header, not data ("nan" and "inf" are numbers).
-      const bool numeric = !fields.empty() && StartsWithNumber(fields[0]);
-      if (!fields.empty() && !fields[0].empty() && !numeric &&
-          (std::isalpha(static_cast<unsigned char>(fields[0][0])) || fields[0][0] == '%')) {
-        text.header_line = std::string(trimmed);
-        text.header.assign(fields.begin(), fields.end());
-        continue;
+    if (!first_row_seen_) {
+      comma_separated_ = trimmed.find(',') != std::string_view::npos;
+      if (!header_row_checked_) {
+        header_row_checked_ = true;
+        SplitTrajectoryFields(trimmed, comma_separated_, &fields);
+        // "timestamp,x,y,z,..." without '#': a header, not data ("nan" and "inf" are numbers).
+        const bool numeric = !fields.empty() && StartsWithNumber(fields[0]);
+        if (!fields.empty() && !fields[0].empty() && !numeric &&
+            (std::isalpha(static_cast<unsigned char>(fields[0][0])) || fields[0][0] == '%')) {
+          header_line_ = std::string(trimmed);
+          header_.assign(fields.begin(), fields.end());
+          continue;
+        }
       }
-      text.rows.push_back(row);
-      continue;
+      first_row_seen_ = true;
     }
-    if (text.rows.empty()) text.comma_separated = trimmed.find(',') != std::string_view::npos;
-    text.rows.push_back(row);
+    *line_number = number_;
+    *text = trimmed;
+    return true;
   }
+  return false;
+}
+
+TrajectoryText ReadTrajectoryText(const std::string& path) {
+  TrajectoryRowStream stream(path);
+  TrajectoryText text;
+  text.path = path;
+  long line = 0;
+  std::string_view row_text;
+  while (stream.Next(&line, &row_text)) {
+    text.rows.push_back(TrajectoryRow{line, text.storage.size(), row_text.size()});
+    text.storage.append(row_text);
+  }
+  text.bytes = text.storage;
+  text.header = stream.header();
+  text.header_line = stream.header_line();
+  text.comma_separated = stream.comma_separated();
+  text.had_bom = stream.had_bom();
+  text.had_crlf = stream.had_crlf();
   return text;
 }
 

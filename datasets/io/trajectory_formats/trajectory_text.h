@@ -11,11 +11,14 @@
 // - separators: when the first data row has a comma, every row is split at commas (fields trimmed
 //   of spaces and tabs; one trailing empty field, as VINS-Fusion's "...,vz," writes, is dropped);
 //   otherwise at runs of spaces and tabs (evo splits at single spaces only; mavloc accepts more).
-// The file is read whole with block reads into one buffer; a row is its line number and where its
-// text lies in the buffer, and its fields are views into the buffer made when they are asked for
-// (no string per line or per field: a million-row file costs its bytes plus 24 bytes a row).
+// TrajectoryRowStream reads a file in blocks and hands out its data rows one at a time (memory
+// independent of the file's length: the readers of trajectory_reader.cc parse each row as it
+// comes). ReadTrajectoryText keeps every row: a row is its line number and where its text lies in
+// one buffer, and its fields are views into the buffer made when they are asked for (no string per
+// line or per field: a million-row file costs its bytes plus 24 bytes a row).
 #pragma once
 
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -34,7 +37,7 @@ struct TrajectoryText {
   std::string path;
   std::vector<std::string> header;  // names from the header line (empty when there is none)
   std::string header_line;          // the header as written (without '#')
-  std::unique_ptr<char[]> storage;  // the file's contents (not zero-filled before the read)
+  std::string storage;              // the data rows' texts, one after the other
   std::string_view bytes;           // view of storage
   std::vector<TrajectoryRow> rows;
   bool comma_separated = false;
@@ -48,6 +51,42 @@ struct TrajectoryText {
   // reused, so a loop over the rows allocates nothing).
   void Fields(const TrajectoryRow& row, std::vector<std::string_view>* fields) const;
   std::vector<std::string_view> Fields(const TrajectoryRow& row) const;
+};
+
+// The data rows of a file, one at a time, by the rules above. The header, the separator and the
+// BOM are known once the first row has been returned (the header is the last '#' line before it);
+// had_crlf() covers the lines read so far.
+class TrajectoryRowStream {
+ public:
+  // Throws InputError (file) when the file does not exist, is a folder, or cannot be opened.
+  explicit TrajectoryRowStream(const std::string& path);
+  // The next data row: its 1-based line number and its text (trimmed of blanks, without '\r'),
+  // valid until the next call. False at the end of the file. Throws InputError (file) when the
+  // file cannot be read.
+  bool Next(long* line, std::string_view* text);
+
+  const std::string& path() const { return path_; }
+  const std::vector<std::string>& header() const { return header_; }
+  const std::string& header_line() const { return header_line_; }
+  bool comma_separated() const { return comma_separated_; }
+  bool had_bom() const { return had_bom_; }
+  bool had_crlf() const { return had_crlf_; }
+
+ private:
+  bool NextLine(std::string_view* line);  // the next raw line (without '\n'); false at the end
+  bool Refill();                          // more bytes after the unread ones; false at the end
+
+  std::string path_;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
+  std::vector<char> buffer_;
+  size_t begin_ = 0, end_ = 0;  // the unread bytes: buffer_[begin_, end_)
+  size_t scanned_ = 0;          // buffer_[begin_, scanned_) holds no '\n'
+  bool at_eof_ = false;
+  long number_ = 0;  // lines read so far
+  bool first_row_seen_ = false, header_row_checked_ = false;
+  std::vector<std::string> header_;
+  std::string header_line_;
+  bool comma_separated_ = false, had_bom_ = false, had_crlf_ = false;
 };
 
 // Throws InputError (file) when the file does not exist, is a folder, or cannot be read; an empty
