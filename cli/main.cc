@@ -11,11 +11,14 @@
 
 #include "cli/commands.h"
 #include "core/errors.h"
+#include "core/huge_pages.h"
 #include "core/interrupt.h"
 #include "evaluation/report/provenance.h"
 #include "evaluation/repro/repro.h"
 
 int main(int argc, char** argv) {
+  // 2 MiB pages for the heap (core/huge_pages.h): may re-execute the process, so first of all.
+  mavloc::ReexecWithHugePages(argv);
   // SIGINT/SIGTERM: temporary outputs removed, exit 130/143 (core/interrupt.h). First, before
   // any library starts a thread, so that every thread inherits the blocked signals.
   mavloc::InstallInterruptHandler();

@@ -108,15 +108,19 @@ AssociationResult AssociateTrajectories(const std::vector<StampedPose>& estimate
   for (size_t i = 0; i < estimate.size(); ++i) est_t[i] = estimate[i].t_ns + offset_ns;
   for (size_t i = 0; i < truth.size(); ++i) gt_t[i] = truth[i].t_ns;
   const bool make_pairs = options.make_pairs || options.mode != AssociationMode::kNearest;
+  const bool make_indices = options.make_indices || !make_pairs;
   const auto add = [&](size_t ie, size_t ig, const Pose& T_W_B_gt) {
     if (make_pairs) out.pairs.push_back({est_t[ie], estimate[ie].T_W_B, T_W_B_gt});
+    if (!make_indices) return;
     out.estimate_index.push_back(ie);
     out.truth_index.push_back(ig);
   };
   const size_t reserve = std::min(estimate.size(), truth.size());
   if (make_pairs) out.pairs.reserve(reserve);
-  out.estimate_index.reserve(reserve);
-  out.truth_index.reserve(reserve);
+  if (make_indices) {
+    out.estimate_index.reserve(reserve);
+    out.truth_index.reserve(reserve);
+  }
 
   if (options.mode == AssociationMode::kNearest) {
     // evo: snd_longer = len(est) > len(ref); the shorter one is walked.

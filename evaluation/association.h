@@ -48,6 +48,8 @@ struct AssociationOptions {
   // Nearest mode only: false leaves `pairs` empty and fills the two index lists alone (what a
   // caller that only needs positions uses; saves 120 bytes per pair).
   bool make_pairs = true;
+  // false leaves the two index lists empty (what a caller of the pairs alone uses).
+  bool make_indices = true;
 };
 struct AssociationResult {
   std::vector<PosePair> pairs;

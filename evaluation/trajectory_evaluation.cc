@@ -90,8 +90,10 @@ std::optional<TrajectoryEvaluation> EvaluateTrajectory(const std::vector<Stamped
   out.truth_count = truth.size();
 
   // 1. Association.
-  AssociationResult association = AssociateTrajectories(
-      estimate, truth, {protocol.association, protocol.max_dt_s, protocol.time_offset_s});
+  AssociationOptions association_options{protocol.association, protocol.max_dt_s,
+                                         protocol.time_offset_s};
+  association_options.make_indices = false;
+  AssociationResult association = AssociateTrajectories(estimate, truth, association_options);
   std::vector<PosePair>& pairs = association.pairs;
   out.pair_count = pairs.size();
   out.diagnostics.pair_count =

@@ -9,6 +9,7 @@
 // rows that do not parse (file:line and field).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
 #include <fstream>
 #include <sstream>
@@ -295,6 +296,54 @@ TEST(TrajectoryTextThroughReader, SortAndRepeatedStamps) {
   EXPECT_EQ(unsorted.poses[0].T_W_B.p.x(), 1.0);
   EXPECT_EQ(unsorted.poses[1].T_W_B.p.x(), 2.0);
   EXPECT_EQ(unsorted.report.first_duplicate_line, 2);
+}
+
+// The reader parses rows as the stream hands them out (blocks of 1 MiB): a file of many blocks,
+// a row longer than a block, CRLF lines and comments between rows give the poses, lines and
+// counts that the whole-file text gives; a bad row deep in the file is named by its line; an
+// ASL file's velocities and biases come with their poses.
+TEST(TrajectoryTextThroughReader, StreamedRowsAcrossBlocks) {
+  std::string bytes = "# timestamp tx ty tz qx qy qz qw\n";
+  const int n = 90'000;
+  for (int i = 0; i < n; ++i) {
+    bytes += std::to_string(i) + ".5 " + std::to_string(i) + " 2 3 0 0 0.6 0.8";
+    bytes += i % 5 == 0 ? "\r\n" : "\n";
+    if (i % 1000 == 0) bytes += "# comment\n\n";
+    if (i == 40'000) bytes += std::to_string(i) + ".5 -1 2 3 0 0 0.6 0.8\n";  // repeated stamp
+  }
+  const std::string path = testing::MakeTempDir() + "/long.txt";
+  testing::WriteFileBytes(path, bytes);
+  const LoadedTrajectory t = ReadTrajectory(path);
+  const TrajectoryText text = ReadTrajectoryText(path);
+  ASSERT_EQ(t.poses.size(), static_cast<size_t>(n));
+  EXPECT_EQ(t.report.rows, text.rows.size());
+  EXPECT_EQ(t.report.duplicates_dropped, 1u);
+  EXPECT_EQ(t.report.first_duplicate_line, text.rows[40'001].line);
+  EXPECT_TRUE(t.report.had_crlf);
+  EXPECT_TRUE(t.motion.empty());
+  for (int i = 0; i < n; i += 997) {
+    EXPECT_EQ(t.poses[i].t_ns, i * kNsPerSecond + kNsPerSecond / 2) << i;
+    EXPECT_EQ(t.poses[i].T_W_B.p.x(), i) << i;
+    EXPECT_NEAR(t.poses[i].T_W_B.q.w(), 0.8, 1e-15) << i;
+  }
+  std::string bad = bytes;
+  bad += "95000.5 1 2 x 0 0 0.6 0.8\n";
+  testing::WriteFileBytes(path, bad);
+  const size_t lines = static_cast<size_t>(std::count(bad.begin(), bad.end(), '\n'));
+  EXPECT_NE(ReadError(bad).find("t.txt:" + std::to_string(lines) + ": field 'tz'"),
+            std::string::npos)
+      << ReadError(bad);
+
+  const LoadedTrajectory asl = ReadBytes(
+      "#timestamp,x,y,z,qw,qx,qy,qz,vx,vy,vz,bwx,bwy,bwz,bax,bay,baz\n"
+      "100,1,2,3,1,0,0,0,0.5,0,0,0.01,0,0,0,0.2,0\n200,1,2,3,1,0,0,0,0.7,0,0,0,0,0,0,0,0\n");
+  ASSERT_EQ(asl.poses.size(), 2u);
+  ASSERT_EQ(asl.motion.size(), 2u);
+  EXPECT_EQ(asl.motion[1].v_W.x(), 0.7);
+  const std::vector<GroundTruthState> states = asl.States();
+  EXPECT_EQ(states[0].b_g.x(), 0.01);
+  EXPECT_EQ(states[0].b_a.y(), 0.2);
+  EXPECT_EQ(states[1].T_W_B.p.z(), 3.0);
 }
 
 }  // namespace

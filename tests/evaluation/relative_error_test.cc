@@ -119,5 +119,42 @@ TEST(RelativeError, EntryPointUsesDefaultLengthsOfTheTruthPath) {
   EXPECT_NEAR(r->relative[4].translation_percent_stats.max, 0.0, 1e-9);
 }
 
+// A long trajectory (60,000 pairs: relative errors on a second thread) evaluated keeping every
+// segment and keeping only their statistics: the same counts and statistics, bit for bit, and the
+// serial path's per-length errors on the same aligned pairs.
+TEST(RelativeError, StatisticsAloneMatchTheKeptSegments) {
+  std::vector<StampedPose> gt, est;
+  for (int i = 0; i < 60'000; ++i) {
+    const double t = 0.01 * i;
+    const Eigen::Vector3d p(20 * std::cos(0.05 * t), 15 * std::sin(0.07 * t), std::sin(0.3 * t));
+    const Eigen::Quaterniond q(Rz(0.1 * t) * Ry(0.01 * std::sin(t)));
+    gt.push_back({i * kNsPerSecond / 100, Pose(q, p)});
+    const Eigen::Vector3d wobble(0.01 * std::sin(3 * t), 0.01 * std::cos(2 * t), 0.0);
+    est.push_back({i * kNsPerSecond / 100,
+                   Pose(q * Eigen::Quaterniond(Rx(0.002 * std::cos(t))), p + wobble)});
+  }
+  EvaluationProtocol kept;
+  EvaluationProtocol statistics = kept;
+  statistics.keep_relative_segments = false;
+  const auto a = EvaluateTrajectory(est, gt, kept);
+  const auto b = EvaluateTrajectory(est, gt, statistics);
+  ASSERT_TRUE(a.has_value() && b.has_value());
+  ASSERT_EQ(a->relative.size(), 5u);
+  ASSERT_EQ(b->relative.size(), 5u);
+  for (size_t k = 0; k < 5; ++k) {
+    const RelativeErrorAtLength& full = a->relative[k];
+    const RelativeErrorAtLength& alone = b->relative[k];
+    EXPECT_GT(full.count(), 1000u);
+    EXPECT_EQ(full.count(), full.translation_percent.size());
+    EXPECT_EQ(alone.count(), full.count());
+    EXPECT_TRUE(alone.translation_percent.empty());
+    EXPECT_EQ(alone.translation_percent_stats.mean, full.translation_percent_stats.mean);
+    EXPECT_EQ(alone.translation_percent_stats.median, full.translation_percent_stats.median);
+    EXPECT_EQ(alone.rotation_deg_per_m_stats.rmse, full.rotation_deg_per_m_stats.rmse);
+    EXPECT_EQ(alone.tilt_deg_stats.max, full.tilt_deg_stats.max);
+    EXPECT_EQ(ComputeStatistics(full.yaw_deg).median, full.yaw_deg_stats.median);
+  }
+}
+
 }  // namespace
 }  // namespace mavloc
