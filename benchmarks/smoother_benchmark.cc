@@ -1,5 +1,7 @@
 // Solve time of the batch smoother on tag-arena-dynamic (IMU 100 Hz, cam0 10 Hz, 21 floor tags)
-// for 10, 30, 100 and 300 s of flight, seeded by tag-pnp. The seed and the simulation are
+// for 10, 30, 100 and 300 s of flight, seeded by tag-pnp; at 30 and 100 s also with the IMU and
+// map-point factors differentiated automatically (autodiff:1, the reference of their analytic
+// Jacobians). The seed and the simulation are
 // computed outside the timed loop; the timing covers keyframe initialization, preintegration,
 // problem assembly and the Ceres solve. Counters: keyframes, ms per keyframe (should stay flat as
 // the length grows: the problem is block-banded), real-time factor (flight time / solve time,
@@ -57,6 +59,7 @@ void BM_SmootherTagArenaDynamic(benchmark::State& state) {
   const Case& c = GetCase(duration_s);
   EstimatorOptions options;
   options.Set("threads", "2");
+  options.Set("autodiff_jacobians", state.range(1) != 0 ? "1" : "0");
   SmootherEstimator smoother(options);
   for (auto _ : state) {
     Estimate estimate = smoother.RunFromSeedPoses(c.dataset, c.seed);
@@ -79,10 +82,13 @@ void BM_SmootherTagArenaDynamic(benchmark::State& state) {
 }
 
 BENCHMARK(BM_SmootherTagArenaDynamic)
-    ->Arg(10)
-    ->Arg(30)
-    ->Arg(100)
-    ->Arg(300)
+    ->ArgNames({"s", "autodiff"})
+    ->Args({10, 0})
+    ->Args({30, 0})
+    ->Args({100, 0})
+    ->Args({300, 0})
+    ->Args({30, 1})
+    ->Args({100, 1})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 

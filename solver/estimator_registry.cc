@@ -262,6 +262,7 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
           "Ceres batch smoother: Forster preintegration + visual residuals, "
           "seeded by the closed-form/PnP estimators",
           {"accel_bias_prior_m_s2",
+           "autodiff_jacobians",
            "bearing_sigma_deg",
            "calibration_covariance",
            "cameras",

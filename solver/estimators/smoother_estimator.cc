@@ -401,6 +401,7 @@ SmootherProblemOptions SmootherEstimator::ProblemOptionsFor(const Dataset& datas
   o.num_threads = options_.GetInt("threads", 2);
   o.compute_covariance = options_.GetBool("covariance", false);
   o.verbose = options_.GetBool("verbose", false);
+  o.autodiff_jacobians = options_.GetBool("autodiff_jacobians", false);
   o.relinearize_rounds = options_.GetInt("relinearize", 1);
   // Initial-bias prior: what the sensor description states (the papers' filters assume the same
   // knowledge: bias-free models where the data are bias-free), else a loose generic prior.

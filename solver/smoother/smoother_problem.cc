@@ -31,6 +31,17 @@ namespace {
 
 constexpr TimeNs kAttachToleranceNs = 1'000'000;  // 1 ms
 
+// A map point's reprojection factor, analytic unless the options ask for the autodiff reference.
+ceres::CostFunction* MapPointReprojection(const SmootherProblemOptions& options,
+                                          const CameraModel& model, const Pose& T_B_C,
+                                          const Eigen::Vector3d& p_W,
+                                          const Eigen::Vector2d& uv_px) {
+  return options.autodiff_jacobians
+             ? MapPointReprojectionFactorAutoDiff::Create(model, T_B_C, p_W, uv_px,
+                                                          options.pixel_sigma_px)
+             : MapPointReprojectionFactor::Create(model, T_B_C, p_W, uv_px, options.pixel_sigma_px);
+}
+
 // Parameter storage of one keyframe (quaternion in Eigen order x, y, z, w).
 struct KeyframeBlocks {
   std::array<double, 4> q{};
@@ -242,7 +253,10 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
       KeyframeBlocks& a = blocks[k];
       KeyframeBlocks& b = blocks[k + 1];
       const ImuPreintegration& pre = preintegrations[k];
-      problem.AddResidualBlock(ImuFactor::Create(pre, pre.SqrtInformation(1e-9, 1e-9, 1e-9)),
+      const Eigen::Matrix<double, 9, 9> sqrt_information = pre.SqrtInformation(1e-9, 1e-9, 1e-9);
+      problem.AddResidualBlock(options.autodiff_jacobians
+                                   ? ImuFactorAutoDiff::Create(pre, sqrt_information)
+                                   : ImuFactor::Create(pre, sqrt_information),
                                nullptr, a.q.data(), a.p.data(), a.v.data(), a.b_g.data(),
                                a.b_a.data(), b.q.data(), b.p.data(), b.v.data());
       problem.AddResidualBlock(
@@ -295,9 +309,8 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
             problem.SetParameterBlockConstant(block.data());
           } else {
             problem.AddResidualBlock(
-                MapPointReprojectionFactor::Create(camera->model, camera->T_B_C, it->second,
-                                                   camera->model.NormalizedToPixel(obs.xy),
-                                                   options.pixel_sigma_px),
+                MapPointReprojection(options, camera->model, camera->T_B_C, it->second,
+                                     camera->model.NormalizedToPixel(obs.xy)),
                 loss.get(), blocks[k].q.data(), blocks[k].p.data());
           }
           ++num_anchored;
@@ -341,10 +354,10 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
             }
             ceres::ResidualBlockId id;
             if (!calibrated) {
-              id = problem.AddResidualBlock(
-                  MapPointReprojectionFactor::Create(sensor.model, sensor.T_B_C, corners_map[c],
-                                                     obs.corners_px[c], options.pixel_sigma_px),
-                  loss.get(), blocks[k].q.data(), blocks[k].p.data());
+              id =
+                  problem.AddResidualBlock(MapPointReprojection(options, sensor.model, sensor.T_B_C,
+                                                                corners_map[c], obs.corners_px[c]),
+                                           loss.get(), blocks[k].q.data(), blocks[k].p.data());
             } else {
               if (!shared_blocks_added) {
                 problem.AddParameterBlock(q_W_M.data(), 4, &tilt_manifold);

@@ -70,6 +70,10 @@ struct SmootherProblemOptions {
   bool compute_covariance = false;
   SmootherCovarianceMethod covariance_method = SmootherCovarianceMethod::kStructured;
   bool verbose = false;
+  // The IMU and map-point reprojection factors differentiated automatically instead of by their
+  // analytic Jacobians: the reference those are checked and timed against (same solution to
+  // rounding).
+  bool autodiff_jacobians = false;
 
   // Visual noise (standard deviations).
   double pixel_sigma_px = 1.0;           // tags0 corners and features0 in pixel mode

@@ -19,6 +19,7 @@
 #include "evaluation/comparison.h"
 #include "solver/estimator.h"
 #include "solver/estimators/smoother_estimator.h"
+#include "solver/smoother/smoother_initialization.h"
 #include "tests/test_support.h"
 
 #include "tests/scenario_support.h"
@@ -248,6 +249,33 @@ TEST(SmootherNoisy, MoreAccurateThanSeedAndFilterOnTagArena) {
         static_cast<int>(seed), 1e3 * acc.at("smoother").position_rmse_m,
         1e3 * acc.at("tag-pnp").position_rmse_m, 1e3 * acc.at("tag-ekf").position_rmse_m);
   }
+}
+
+// The analytic Jacobians of the IMU and map-point factors against their autodiff reference
+// (autodiff_jacobians=1) on a noisy tag arena: the same solution to rounding.
+TEST(SmootherJacobians, AnalyticAndAutodiffGiveTheSameSolution) {
+  if (!FindScenario("tag-arena-dynamic") || !FindEstimator("tag-pnp"))
+    GTEST_SKIP() << "tag-arena-dynamic or tag-pnp not available";
+  const Dataset dataset = Simulate("tag-arena-dynamic", 3, 8.0, {});
+  const std::vector<StampedPose> seed =
+      SeedPoses(FindEstimator("tag-pnp")->create(EstimatorOptions())->Run(dataset));
+  const Estimate analytic = SmootherEstimator(Options({})).RunFromSeedPoses(dataset, seed);
+  const Estimate autodiff =
+      SmootherEstimator(Options({{"autodiff_jacobians", "1"}})).RunFromSeedPoses(dataset, seed);
+  ASSERT_EQ(analytic.poses.size(), autodiff.poses.size());
+  ASSERT_GT(analytic.poses.size(), 50u);
+  double largest_m = 0.0, largest_rad = 0.0;
+  for (size_t i = 0; i < analytic.poses.size(); ++i) {
+    ASSERT_EQ(analytic.poses[i].t_ns, autodiff.poses[i].t_ns);
+    largest_m = std::max(largest_m, (analytic.poses[i].T_W_B.p - autodiff.poses[i].T_W_B.p).norm());
+    largest_rad =
+        std::max(largest_rad, analytic.poses[i].T_W_B.q.angularDistance(autodiff.poses[i].T_W_B.q));
+  }
+  // Positions of a few metres: 1e-9 relative.
+  EXPECT_LT(largest_m, 1e-8);
+  EXPECT_LT(largest_rad, 1e-9);
+  std::printf("analytic vs autodiff Jacobians: largest difference %.2e m, %.2e rad\n", largest_m,
+              largest_rad);
 }
 
 // Three-point world (D given, as to the closed-form solvers): the smoother's position beats both

@@ -7,6 +7,7 @@
 
 #include "core/imu.h"
 #include "core/rotation.h"
+#include "solver/smoother/residuals/quaternion_ambient.h"
 #include "solver/smoother/tilt_manifold.h"
 
 namespace mavloc {
@@ -14,17 +15,6 @@ namespace mavloc {
 namespace {
 
 using RowMajor2x3 = Eigen::Matrix<double, 2, 3, Eigen::RowMajor>;
-
-// J_tangent (2 x 3) of a ceres::EigenQuaternionManifold block at q (x, y, z, w) into the
-// ambient 2 x 4 Jacobian: the PlusJacobian P has orthonormal columns, so J_ambient = J_tangent P^T
-// satisfies J_ambient P = J_tangent.
-void QuaternionAmbient(const double* q, const RowMajor2x3& J_tangent, double* out) {
-  static const ceres::EigenQuaternionManifold manifold;
-  Eigen::Matrix<double, 4, 3, Eigen::RowMajor> P;
-  manifold.PlusJacobian(q, P.data());
-  Eigen::Map<Eigen::Matrix<double, 2, 4, Eigen::RowMajor>> J(out);
-  J = J_tangent * P.transpose();
-}
 
 }  // namespace
 
