@@ -51,12 +51,7 @@ struct CalibrationSettings {
 };
 
 CalibrationSettings ReadCalibrationSettings(const ScenarioOptions& options) {
-  options.RejectUnknownSettings(
-      kAprilgridCalibration,
-      {"pixel_noise_px", "imu_noise", "bias", "time_offset_ms", "extrinsics_error_m",
-       "extrinsics_error_deg", "board_roll_deg", "board_pitch_deg", "distance_m",
-       "distance_amplitude_m", "target_amplitude_m", "rotation_amplitude_deg", "control_interval_s",
-       "camera_rate_hz", "imu_rate_hz", "stereo"});
+  CheckRegisteredScenarioOptions(kAprilgridCalibration, options);
   CalibrationSettings s;
   s.pixel_noise_px = options.GetDouble("pixel_noise_px", s.pixel_noise_px);
   s.imu_noise = options.GetBool("imu_noise", s.imu_noise);

@@ -23,14 +23,6 @@ namespace {
 constexpr const char* kEurocLaser = "euroc-laser";
 constexpr const char* kRelativeData = "../shared/data/euroc_v1_01_easy";
 
-void RejectUnknownEurocLaserSettings(const ScenarioOptions& options) {
-  static const std::set<std::string> kKnown = {
-      "data",        "alpha_deg",       "L",
-      "clearance_m", "camera_rate_hz",  "bearing_noise_deg",
-      "imu",         "imu_noise_model", "imu_noise_scale"};
-  options.RejectUnknownSettings(kEurocLaser, kKnown);
-}
-
 std::vector<std::filesystem::path> CandidateDataPaths() {
   namespace fs = std::filesystem;
   std::vector<fs::path> candidates = {fs::current_path() / kRelativeData};
@@ -128,7 +120,7 @@ std::string ApplyImuNoiseSettings(const ScenarioOptions& options, const std::str
 }
 
 Dataset GenerateEurocLaser(const ScenarioOptions& options) {
-  RejectUnknownEurocLaserSettings(options);
+  CheckRegisteredScenarioOptions(kEurocLaser, options);
   const std::string prefix = fmt::format("scenario {}: ", kEurocLaser);
   std::string data = options.GetString("data", "");
   if (data.empty()) {

@@ -19,18 +19,6 @@ namespace {
 
 constexpr const char* kLaserPlane = "laser-plane";
 
-void RejectUnknownLaserPlaneSettings(const ScenarioOptions& options) {
-  static const std::set<std::string> kKnown = {"alpha_deg",          "L",
-                                               "distance_m",         "speed_m_s",
-                                               "sigma_accel",        "sigma_rate_deg_s",
-                                               "correlation_time_s", "tilt_deg",
-                                               "imu_rate_hz",        "gyro_sigma_deg_s",
-                                               "accel_sigma_m_s2",   "bias",
-                                               "gyro_bias_deg_s",    "accel_bias_m_s2",
-                                               "camera_rate_hz",     "bearing_noise_deg"};
-  options.RejectUnknownSettings(kLaserPlane, kKnown);
-}
-
 }  // namespace
 
 std::vector<LaserObservation> SimulateLaserSpots(const std::function<Pose(TimeNs)>& T_W_C_at,
@@ -104,7 +92,7 @@ LaserStreamsSummary AddLaserStreams(const std::function<Pose(TimeNs)>& T_W_B_at,
 }
 
 Dataset GenerateLaserPlane(const ScenarioOptions& options) {
-  RejectUnknownLaserPlaneSettings(options);
+  CheckRegisteredScenarioOptions(kLaserPlane, options);
   const double alpha_deg = options.GetDouble("alpha_deg", 22.5);
   const double L = options.GetDouble("L", 0.3);
   const double distance_m = options.GetDouble("distance_m", 1.0);

@@ -117,15 +117,10 @@ void CheckScenarioOptions(const ScenarioEntry& entry, const ScenarioOptions& opt
   }
 }
 
-void ScenarioOptions::RejectUnknownSettings(const std::string& scenario,
-                                            const std::set<std::string>& known) const {
-  for (const auto& [key, value] : settings) {
-    if (known.count(key)) continue;
-    std::string names;
-    for (const auto& k : known) names += (names.empty() ? "" : ", ") + k;
-    throw InputError("scenario " + scenario + ": unknown setting '" + key + "' (known: " + names +
-                     ")");
-  }
+void CheckRegisteredScenarioOptions(const std::string& scenario, const ScenarioOptions& options) {
+  const ScenarioEntry* entry = FindScenario(scenario);
+  if (entry == nullptr) throw std::logic_error("scenario " + scenario + " is not registered");
+  CheckScenarioOptions(*entry, options);
 }
 
 const ScenarioEntry* FindScenario(const std::string& name) {

@@ -74,8 +74,6 @@ struct ScenarioOptions {
   int GetInt(const std::string& key, int fallback) const;
   bool GetBool(const std::string& key, bool fallback) const;
   std::string GetString(const std::string& key, const std::string& fallback) const;
-  // Throws InputError naming the scenario and the known keys when a setting is not in `known`.
-  void RejectUnknownSettings(const std::string& scenario, const std::set<std::string>& known) const;
 
   // Set by the registry's generate (ScenarioEntry): the settings the scenario declares. A getter
   // asked for an undeclared key then throws std::logic_error, so that the declared list (which
@@ -98,6 +96,9 @@ struct ScenarioEntry {
 // before it prepares any output): throws InputError naming the scenario and the offending key or
 // value, with the list of known keys.
 void CheckScenarioOptions(const ScenarioEntry& entry, const ScenarioOptions& options);
+// The same check for a generator called directly (a reproduction, a test) rather than through its
+// registry entry: the registry's list of the scenario's settings is the only one.
+void CheckRegisteredScenarioOptions(const std::string& scenario, const ScenarioOptions& options);
 
 // All scenarios, in a fixed order (datasets/scenarios/scenario_registry.cc lists them).
 const std::vector<ScenarioEntry>& ScenarioRegistry();

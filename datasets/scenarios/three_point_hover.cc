@@ -18,30 +18,6 @@ namespace {
 
 constexpr const char* kThreePointHover = "three-point-hover";
 
-void RejectUnknownThreePointSettings(const ScenarioOptions& options) {
-  static const std::set<std::string> kKnown = {"D",
-                                               "p3_x",
-                                               "p3_y",
-                                               "start_x",
-                                               "start_y",
-                                               "start_z",
-                                               "start_yaw_deg",
-                                               "goal_x",
-                                               "goal_y",
-                                               "goal_z",
-                                               "goal_yaw_deg",
-                                               "move_start_s",
-                                               "move_end_s",
-                                               "imu_rate_hz",
-                                               "gyro_sigma_deg_s",
-                                               "accel_sigma_m_s2",
-                                               "gyro_bias_deg_s",
-                                               "accel_bias_m_s2",
-                                               "camera_period_s",
-                                               "bearing_noise_deg"};
-  options.RejectUnknownSettings(kThreePointHover, kKnown);
-}
-
 // The down-looking camera: x_C = x_B, y_C = -y_B, z_C = -z_B, 3 cm below the IMU.
 CameraSensor DownLookingCamera(double period_s) {
   CameraSensor cam0;
@@ -60,7 +36,7 @@ std::string FormatVec(const Eigen::Vector3d& v) {
 }  // namespace
 
 Dataset GenerateThreePointHover(const ScenarioOptions& options) {
-  RejectUnknownThreePointSettings(options);
+  CheckRegisteredScenarioOptions(kThreePointHover, options);
   const double D = options.GetDouble("D", 0.1);
   const Eigen::Vector3d P1(0.0, 0.0, 0.0);
   const Eigen::Vector3d P2(D, 0.0, 0.0);
