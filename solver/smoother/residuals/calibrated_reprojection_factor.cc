@@ -8,15 +8,10 @@
 #include "core/imu.h"
 #include "core/rotation.h"
 #include "solver/smoother/residuals/quaternion_ambient.h"
+#include "solver/smoother/residuals/whitened_projection.h"
 #include "solver/smoother/tilt_manifold.h"
 
 namespace mavloc {
-
-namespace {
-
-using RowMajor2x3 = Eigen::Matrix<double, 2, 3, Eigen::RowMajor>;
-
-}  // namespace
 
 bool CalibratedReprojectionFactor::Evaluate(double const* const* parameters, double* residuals,
                                             double** jacobians) const {
@@ -42,18 +37,8 @@ bool CalibratedReprojectionFactor::Evaluate(double const* const* parameters, dou
   const Eigen::Vector3d p_C = R_B_C.transpose() * c;
   if (!(p_C.z() > 1e-9)) return false;
 
-  // Projection and its Jacobian by forward-mode differentiation over the 3 coordinates of p_C.
-  using Jet3 = ceres::Jet<double, 3>;
-  const Jet3 p_C_jet[3] = {Jet3(p_C.x(), 0), Jet3(p_C.y(), 1), Jet3(p_C.z(), 2)};
-  Jet3 uv[2];
-  camera_.ProjectT(p_C_jet, uv);
-  residuals[0] = (uv[0].a - uv_px_.x()) * inv_sigma_;
-  residuals[1] = (uv[1].a - uv_px_.y()) * inv_sigma_;
+  const RowMajor2x3 J_uv = WhitenedProjection(camera_, p_C, uv_px_, inv_sigma_, residuals);
   if (!jacobians) return true;
-
-  RowMajor2x3 J_uv;  // whitened d r / d p_C
-  J_uv.row(0) = uv[0].v.transpose() * inv_sigma_;
-  J_uv.row(1) = uv[1].v.transpose() * inv_sigma_;
   const RowMajor2x3 J_pB = J_uv * R_B_C.transpose();  // d r / d p_B
   const RowMajor2x3 J_pW = J_pB * R_t.transpose();    // d r / d p_W (and -d r / d p_t)
 
