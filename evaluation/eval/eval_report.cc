@@ -62,11 +62,6 @@ std::string RunCell(const RunAggregate& a, const char* plus_minus) {
   return SigDigits(a.mean) + plus_minus + SigDigits(a.std);
 }
 
-double RunMean(const std::vector<double>& v) {
-  if (v.empty()) return std::nan("");
-  return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-}
-
 std::string RpeTitle(const RpeDelta& d) {
   const double delta = d.delta;
   const std::string unit = d.unit == DeltaUnit::kFrames   ? "f"

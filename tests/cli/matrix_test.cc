@@ -102,8 +102,9 @@ TEST(Matrix, EstimatorsBySequencesWithIntervalsPairedTestsAndLatex) {
   const auto valid =
       RunCommand("/usr/bin/python3 " + testing::SourceDir() + "/scripts/validate_report.py " +
                  testing::SourceDir() + "/schemas/report.schema.json " + dir + "/m/report.json");
-  if (RunCommand("/usr/bin/python3 -c 'import jsonschema'").exit_code == 0)
+  if (RunCommand("/usr/bin/python3 -c 'import jsonschema'").exit_code == 0) {
     EXPECT_EQ(valid.exit_code, 0) << valid.output;
+  }
 
   // The cells: about sqrt(3) x the noise per axis, and an interval around the mean.
   nlohmann::json cells, pairs;
