@@ -340,6 +340,7 @@ SmootherEstimator::SmootherEstimator(const EstimatorOptions& options) : options_
   if (options_.GetInt("keyframe_stride", 1) < 1)
     throw InputError("smoother: keyframe_stride must be >= 1");
   ParseCameras(options_.GetString("cameras", "all"));  // validates the text
+  options_.GetBool("autodiff_jacobians", false);       // validates the text
   if (!(options_.GetDouble("extrinsics_prior_m", 0.1) > 0.0) ||
       !(options_.GetDouble("extrinsics_prior_deg", 10.0) > 0.0))
     throw InputError("smoother: extrinsics_prior_m and extrinsics_prior_deg must be > 0");
