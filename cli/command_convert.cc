@@ -51,7 +51,7 @@ void RegisterConvert(CLI::App& app, int* exit_code) {
     const LoadedTrajectory loaded = ReadTrajectory(args->in, options);
     const std::string fixes = DescribeRowFixes(loaded.report);
     if (!fixes.empty()) std::fprintf(stderr, "mavloc: note: %s\n", fixes.c_str());
-    const std::vector<StampedPose> poses = loaded.Poses();
+    const std::vector<StampedPose>& poses = loaded.poses;
     if (args->format == "tum") {
       if (!loaded.report.has_stamps)
         std::fprintf(stderr,

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -64,7 +65,7 @@ uint64_t CellSeed(uint64_t seed, size_t index) {
 
 MatrixRun EvaluateRun(const std::string& path, const std::vector<StampedPose>& truth,
                       const EvaluationProtocol& protocol) {
-  const std::vector<StampedPose> estimate = ReadTrajectory(path).Poses();
+  const std::vector<StampedPose> estimate = std::move(ReadTrajectory(path).poses);
   std::string why;
   const auto result = EvaluateTrajectory(estimate, truth, protocol, &why);
   if (!result)
@@ -122,7 +123,7 @@ MatrixResult EvaluateMatrix(const std::vector<MatrixCellFiles>& files,
   std::map<std::string, std::vector<double>> lengths_of_sequence;
   for (const auto& f : files) {
     if (lengths_of_sequence.count(f.sequence)) continue;
-    const std::vector<StampedPose> truth = ReadTrajectory(f.truth_path).Poses();
+    const std::vector<StampedPose> truth = std::move(ReadTrajectory(f.truth_path).poses);
     double path_m = 0.0;
     for (size_t i = 1; i < truth.size(); ++i)
       path_m += (truth[i].T_W_B.p - truth[i - 1].T_W_B.p).norm();
@@ -135,7 +136,7 @@ MatrixResult EvaluateMatrix(const std::vector<MatrixCellFiles>& files,
     const MatrixCellFiles& f = files[index];
     EvaluationProtocol cell_protocol = protocol;
     cell_protocol.relative_lengths_m = lengths_of_sequence[f.sequence];
-    const std::vector<StampedPose> truth = ReadTrajectory(f.truth_path).Poses();
+    const std::vector<StampedPose> truth = std::move(ReadTrajectory(f.truth_path).poses);
     MatrixCell cell;
     cell.estimator = f.estimator;
     cell.sequence = f.sequence;
