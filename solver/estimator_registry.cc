@@ -76,6 +76,7 @@ const std::map<std::string, OptionRange>& OptionRanges() {
       {"refine_loss_px", {0.0, limits::kMaxPixelCoordinate, true, "px"}},
       {"refine_gate_px", {0.0, limits::kMaxPixelCoordinate, true, "px"}},
       {"neighbour_gate_m", {0.0, kUnbounded, false, "m"}},
+      {"neighbour_window_s", {0.0, kUnbounded, false, "s"}},
       {"reacquire_vel_sigma", {0.0, kUnbounded, true, "m/s"}},
       {"reacquire_att_sigma", {0.0, kUnbounded, true, "rad"}},
       {"position_sigma_m", {0.0, kUnbounded, false, "m"}},
@@ -179,7 +180,8 @@ const std::set<std::string> kCornerRansac = {"ransac",     "ransac_threshold_px"
 const std::set<std::string> kTagMapRefine = {"refine_map",  "refine_sigma_m", "refine_sigma_rad",
                                              "refine_loss", "refine_loss_px", "refine_gate_px"};
 // Check across frames (ParseNeighbourGateOptions, solver/pose/neighbour_gate.cc).
-const std::set<std::string> kNeighbourGate = {"neighbour_gate_m", "neighbour_frames"};
+const std::set<std::string> kNeighbourGate = {"neighbour_gate_m", "neighbour_frames",
+                                              "neighbour_window_s"};
 // Roll/pitch source (ParseRollPitchSourceOptions, solver/pixhawk/roll_pitch_source.cc).
 const std::set<std::string> kRollPitchSource = {"attitude", "attitude_error_deg",
                                                 "attitude_error_tau_s", "attitude_error_seed",

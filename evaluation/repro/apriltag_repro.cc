@@ -462,7 +462,8 @@ nlohmann::json DynamicUnit(const AprilTagSettings& settings, uint64_t seed) {
       {"tag-ekf", "tag-ekf", {}},
       {"tag-ekf (delay ignored)", "tag-ekf", {{"compensate_delay", "0"}}},
       {"tag-ekf (no tags)", "tag-ekf", {{"use_tags", "0"}}},
-      {"tag-pnp", "tag-pnp", {{"ransac", "0"}}},  // the paper's baseline: every tag
+      // The paper's baseline: every tag, every frame on its own, the map as given.
+      {"tag-pnp", "tag-pnp", {{"ransac", "0"}, {"refine_map", "0"}, {"neighbour_gate_m", "0"}}},
   };
   nlohmann::json dynamic_json = {{"first_tag_s", first_tag_s},
                                  {"window_start_s", window_s},

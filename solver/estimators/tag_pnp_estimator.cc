@@ -45,28 +45,36 @@ Estimate TagPnpEstimator::RunInWorld(const Dataset& dataset) const {
   }
   const TagMapCheck check = CheckTagMap(frames, dataset.map.tags, camera, ransac_, map_check_);
   estimate.events = check.events;
+  const bool refine = refine_.mode == TagMapRefineMode::kOn ||
+                      (refine_.mode == TagMapRefineMode::kAuto && !check.disagreeing.empty());
   const std::map<int, TagInfo> tags =
-      refine_.enabled ? RefinedMap(frames, dataset.map.tags, camera, &estimate) : dataset.map.tags;
+      refine ? RefinedMap(frames, dataset.map.tags, camera, &estimate) : dataset.map.tags;
   std::vector<CornerRansacResult> results;
+  std::vector<TimeNs> frame_t_ns;
   results.reserve(frames.size());
-  for (const std::vector<TagObservation>& frame : frames)
+  for (const std::vector<TagObservation>& frame : frames) {
     results.push_back(CornerPnpRansac(frame, tags, camera, ransac_));
-  RefuseNeighbourOutliers(&results);
+    frame_t_ns.push_back(frame.front().t_ns);
+  }
+  RefuseNeighbourOutliers(frame_t_ns, &results);
   for (size_t f = 0; f < frames.size(); ++f)
     RecordFramePose(results[f], frames[f].front().t_ns, &estimate);
   return estimate;
 }
 
-void TagPnpEstimator::RefuseNeighbourOutliers(std::vector<CornerRansacResult>* results) const {
+void TagPnpEstimator::RefuseNeighbourOutliers(const std::vector<TimeNs>& frame_t_ns,
+                                              std::vector<CornerRansacResult>* results) const {
   if (!neighbour_gate_.enabled()) return;
   std::vector<size_t> posed;
+  std::vector<double> times_s;
   std::vector<Eigen::Vector3d> positions_W;
   for (size_t f = 0; f < results->size(); ++f) {
     if (!(*results)[f].pnp.ok) continue;
     posed.push_back(f);
+    times_s.push_back(NsToSeconds(frame_t_ns[f] - frame_t_ns.front()));
     positions_W.push_back((*results)[f].pnp.T_W_B.p);
   }
-  const std::vector<bool> refused = NeighbourGateRefusals(positions_W, neighbour_gate_);
+  const std::vector<bool> refused = NeighbourGateRefusals(times_s, positions_W, neighbour_gate_);
   for (size_t k = 0; k < posed.size(); ++k) {
     if (!refused[k]) continue;
     CornerRansacResult& result = (*results)[posed[k]];

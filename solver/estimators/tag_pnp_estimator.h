@@ -13,14 +13,15 @@
 // refine_map=1 first refines the map's tag poses from the log (solver/pose/tag_map_refine.h: one
 // bundle adjustment over the first pass's posed frames and the tags, each tag tied to its map pose)
 // and then poses every frame again on the refined map; how far the tags moved is reported in the
-// events and as the parameters map_shift_max and map_shift_median (m).
-// neighbour_gate_m > 0 then refuses the poses that lie that far from the median position of their
-// neighbouring posed frames (solver/pose/neighbour_gate.h), counted as failures by that reason.
+// events and as the parameters map_shift_max and map_shift_median (m). refine_map=auto (the
+// default) does so when the map check names a tag, i.e. when the log disagrees with the map.
+// neighbour_gate_m > 0 then refuses the poses that lie that far from where their neighbouring
+// posed frames put them (solver/pose/neighbour_gate.h), counted as failures by that reason.
 // Options: camera (default: the tags' camera, cameras[0]), gravity_init_s (2), gravity_min_tags
 // (2), ransac (1), ransac_threshold_px (4), ransac_min_tags (2), single_tag (1),
-// min_ambiguity_ratio (0), map_check (1), refine_map (0), refine_sigma_m (0.1),
+// min_ambiguity_ratio (0), map_check (1), refine_map (auto), refine_sigma_m (0.1),
 // refine_sigma_rad (0.1), refine_loss (cauchy), refine_loss_px (2), refine_gate_px (8),
-// neighbour_gate_m (0: off), neighbour_frames (20).
+// neighbour_gate_m (0.3; 0: off), neighbour_frames (20), neighbour_window_s (1.5).
 #pragma once
 
 #include <map>
@@ -50,7 +51,8 @@ class TagPnpEstimator : public Estimator {
                                     const std::map<int, TagInfo>& tags, const CameraSensor& camera,
                                     Estimate* estimate) const;
   // neighbour_gate_m: the posed frames far from their neighbours become failures.
-  void RefuseNeighbourOutliers(std::vector<CornerRansacResult>* results) const;
+  void RefuseNeighbourOutliers(const std::vector<TimeNs>& frame_t_ns,
+                               std::vector<CornerRansacResult>* results) const;
 
   std::string camera_name_;
   BoardInitOptions board_;

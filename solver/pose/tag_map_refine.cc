@@ -241,7 +241,16 @@ void StoreRefinedState(const RefineState& s, TagMapRefinement* out) {
 // (solver/estimator_registry.cc, OptionRanges).
 TagMapRefineOptions ParseTagMapRefineOptions(const EstimatorOptions& options) {
   TagMapRefineOptions out;
-  out.enabled = options.GetBool("refine_map", out.enabled);
+  const std::string mode = options.GetString("refine_map", "auto");
+  if (mode == "auto") {
+    out.mode = TagMapRefineMode::kAuto;
+  } else if (mode == "1" || mode == "true") {
+    out.mode = TagMapRefineMode::kOn;
+  } else if (mode == "0" || mode == "false") {
+    out.mode = TagMapRefineMode::kOff;
+  } else {
+    throw InputError("--option refine_map=" + mode + ": must be 0, 1 or auto");
+  }
   out.tag_sigma_m = options.GetDouble("refine_sigma_m", out.tag_sigma_m);
   out.tag_sigma_rad = options.GetDouble("refine_sigma_rad", out.tag_sigma_rad);
   const std::string loss = options.GetString("refine_loss", "cauchy");

@@ -33,8 +33,13 @@ namespace mavloc {
 
 enum class TagMapRefineLoss { kHuber, kCauchy };
 
+// refine_map=0|1|auto: auto refines when the map check (tag_map_check.h) names a tag that the
+// other tags of its frames disagree with, i.e. when the log shows the map is loose; a map the log
+// agrees with is used as given.
+enum class TagMapRefineMode { kOff, kOn, kAuto };
+
 struct TagMapRefineOptions {
-  bool enabled = false;                               // refine_map
+  TagMapRefineMode mode = TagMapRefineMode::kAuto;    // refine_map
   double tag_sigma_m = 0.1;                           // refine_sigma_m: map position prior
   double tag_sigma_rad = 0.1;                         // refine_sigma_rad: map rotation prior
   TagMapRefineLoss loss = TagMapRefineLoss::kCauchy;  // refine_loss=huber|cauchy
@@ -44,7 +49,7 @@ struct TagMapRefineOptions {
   int max_iterations = 100;
 };
 
-// From `--option refine_map=0|1, refine_sigma_m (> 0), refine_sigma_rad (> 0),
+// From `--option refine_map=0|1|auto, refine_sigma_m (> 0), refine_sigma_rad (> 0),
 // refine_loss=huber|cauchy, refine_loss_px (> 0), refine_gate_px (> 0)`; throws InputError naming
 // a bad option.
 TagMapRefineOptions ParseTagMapRefineOptions(const EstimatorOptions& options);
