@@ -274,6 +274,7 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
            "estimate_time_offset",
            "extrinsics_prior_deg",
            "extrinsics_prior_m",
+           "fit_imu_noise",
            "graduated",
            "gravity_window_s",
            "grow_window_s",

@@ -227,6 +227,71 @@ SmootherResult SolveRobustly(const Dataset& dataset, const std::vector<SmootherK
   return kept;
 }
 
+// fit_imu_noise=1 (variance component estimation, smoother_covariance.h ResidualGroupFit): the IMU
+// factors' chi2 over their redundancy is the factor by which the stated variances are off. All four
+// densities are scaled by its square root and the problem solved again from the solution, until
+// the factor is within kImuFitTolerance of 1 or after kImuFitRounds solves (Koch 1999, sec. 3.6.4:
+// the estimate is iterated because the redundancies depend on the weights).
+constexpr double kImuFitTolerance = 0.02;
+constexpr int kImuFitRounds = 8;
+// A scale outside this range says the IMU model (or the solution) is wrong, not its size: a
+// diverged solution fits the spots by trusting the IMU ever more (euroc-laser's diverged seeds
+// run to x 0.0004). The fit then stops and keeps the stated densities' solution.
+constexpr double kImuFitMinScale = 0.05;
+constexpr double kImuFitMaxScale = 20.0;
+
+void RefitImuNoise(const Dataset& dataset, const SmootherProblemOptions& options,
+                   SmootherResult* result, Estimate* estimate) {
+  if (!options.fit_imu_noise) return;
+  if (!result->usable || !result->imu_fit || !(result->imu_fit->redundancy > 0.0)) {
+    estimate->events.push_back("IMU noise not fitted: the IMU residuals' redundancy is unknown");
+    return;
+  }
+  Dataset scaled = dataset;
+  const SmootherResult stated = *result;
+  double scale = 1.0;
+  int rounds = 0;
+  while (std::abs(result->imu_fit->VarianceFactor() - 1.0) > kImuFitTolerance &&
+         rounds < kImuFitRounds) {
+    const double factor = result->imu_fit->VarianceFactor();
+    scale *= std::sqrt(factor);
+    if (!(scale >= kImuFitMinScale && scale <= kImuFitMaxScale)) {
+      estimate->events.push_back(fmt::format(
+          "IMU noise not fitted: the IMU residuals ask for every density x {:.3g}, outside [{:g}, "
+          "{:g}] (a model error or a diverged solution, not a noise level); the stated densities "
+          "are kept",
+          scale, kImuFitMinScale, kImuFitMaxScale));
+      const SmootherStatistics all_solves = result->statistics;
+      *result = stated;
+      result->statistics = all_solves;
+      return;
+    }
+    ImuNoise& noise = scaled.imu.noise;
+    noise = dataset.imu.noise;
+    for (double* density : {&noise.gyroscope_noise_density, &noise.gyroscope_random_walk,
+                            &noise.accelerometer_noise_density, &noise.accelerometer_random_walk})
+      *density *= scale;
+    SmootherProblemOptions continued = options;
+    continued.initial_T_B_C = result->calibration.T_B_C;
+    continued.initial_time_offset_s = result->calibration.time_offset_s;
+    if (result->calibration.q_W_M) continued.initial_q_W_M = result->calibration.q_W_M;
+    SmootherResult next =
+        SolveSmoother(scaled, result->keyframes, result->landmarks_W, result->plane, continued);
+    ++rounds;
+    if (!next.usable || !next.imu_fit) break;
+    AddStatistics(result->statistics, &next.statistics);
+    *result = std::move(next);
+  }
+  const ResidualGroupFit& fit = *result->imu_fit;
+  // var(chi2 / r) = 2 / r for Gaussian residuals, so the scale's standard deviation is
+  // scale / sqrt(2 r) (first order).
+  estimate->parameters["imu_noise_scale"] = {scale, scale / std::sqrt(2.0 * fit.redundancy), ""};
+  estimate->events.push_back(fmt::format(
+      "IMU noise fitted to the IMU residuals: every density x {:.3g} ({} solves; final chi2 {:.4g} "
+      "over a redundancy of {:.4g} of {} residuals)",
+      scale, rounds + 1, fit.chi2, fit.redundancy, fit.residuals));
+}
+
 // Whether a solution's cost is plausible for its residuals: twice the cost (the sum of squared
 // whitened residuals) within kPlausibleCostFactor times the number of residual dimensions (15 per
 // IMU factor: preintegration and bias walk; 2 per visual residual), whose expectation it would be
@@ -341,6 +406,7 @@ SmootherEstimator::SmootherEstimator(const EstimatorOptions& options) : options_
     throw InputError("smoother: keyframe_stride must be >= 1");
   ParseCameras(options_.GetString("cameras", "all"));  // validates the text
   options_.GetBool("autodiff_jacobians", false);       // validates the text
+  options_.GetBool("fit_imu_noise", false);            // validates the text
   if (!(options_.GetDouble("extrinsics_prior_m", 0.1) > 0.0) ||
       !(options_.GetDouble("extrinsics_prior_deg", 10.0) > 0.0))
     throw InputError("smoother: extrinsics_prior_m and extrinsics_prior_deg must be > 0");
@@ -451,6 +517,7 @@ SmootherProblemOptions SmootherEstimator::ProblemOptionsFor(const Dataset& datas
   o.initial_time_offset_s = options_.GetDouble("time_offset_init_ms", 0.0) * 1e-3;
   o.max_time_offset_s = options_.GetDouble("max_time_offset_ms", 30.0) * 1e-3;
   o.calibration_covariance = options_.GetBool("calibration_covariance", true);
+  o.fit_imu_noise = options_.GetBool("fit_imu_noise", false);
   return o;
 }
 
@@ -541,6 +608,7 @@ Estimate SmootherEstimator::RunFromLaserModes(const Dataset& dataset,
       AddStatistics(grown.statistics, &last_result_.statistics);
     }
   }
+  RefitImuNoise(dataset, problem_options, &last_result_, &estimate);
   const SmootherResult& result = last_result_;
   if (!result.usable || !result.plane) {
     estimate.failures["smoother: " +
@@ -619,6 +687,7 @@ Estimate SmootherEstimator::RunFromSeedPoses(const Dataset& dataset,
   const bool graduated = options_.GetBool("graduated", true) && !anchored;
   last_result_ =
       SolveRobustly(dataset, init.keyframes, landmarks, plane, problem_options, graduated);
+  RefitImuNoise(dataset, problem_options, &last_result_, &estimate);
   const SmootherResult& result = last_result_;
   if (!result.usable) {
     estimate.failures["smoother: " +

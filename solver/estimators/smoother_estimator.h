@@ -34,6 +34,10 @@
 //   graduated       0/1: with a bias prior tighter than the generic one and no known map points
 //                   (laser, unknown landmarks), also solve with the generic prior first and keep
 //                   the lower-cost of the two solutions (1)
+//   fit_imu_noise   0/1: scale the IMU's four noise densities until the IMU factors' chi2 equals
+//                   their redundancy (variance component estimation, smoother_covariance.h
+//                   ResidualGroupFit), solving again each time; the scale is the parameter
+//                   imu_noise_scale, with its standard deviation (0)
 //
 // Calibration. Tag corners of tags0 (cam0) and tags1 (cam1) each enter with their own
 // camera model and T_B_C.

@@ -169,11 +169,12 @@ SmootherCovariance::SmootherCovariance(const SmootherCovarianceOptions& options)
 bool SmootherCovariance::Compute(
     const SmootherCovarianceLayout& layout,
     const std::vector<std::pair<const double*, const double*>>& covariance_blocks,
-    ceres::Problem* problem) {
+    ceres::Problem* problem, const std::vector<ceres::ResidualBlockId>* group) {
   using namespace smoother_covariance_internal;
   valid_ = false;
   message_.clear();
   statistics_ = SmootherCovarianceStatistics{};
+  group_fit_ = ResidualGroupFit{};
   blocks_.clear();
   for (const auto& [a, b] : covariance_blocks) {
     if (!problem->HasParameterBlock(a) || !problem->HasParameterBlock(b)) {
@@ -298,8 +299,14 @@ bool SmootherCovariance::Compute(
     const Eigen::Map<const Eigen::SparseMatrix<Real>> H_map(
         dimension, dimension, static_cast<Eigen::Index>(lower.values.size()), lower.outer.data(),
         lower.inner.data(), lower.values.data());
-    const Eigen::SparseMatrix<Real> H = H_map;
+    Eigen::SparseMatrix<Real> H = H_map;
     lower = LowerInformation();
+    if (options_.regularization > 0.0) {
+      for (int j = 0; j < dimension; ++j) {
+        Real& h_jj = H.valuePtr()[H.outerIndexPtr()[j]];
+        h_jj = h_jj > 0 ? h_jj * (1.0L + static_cast<Real>(options_.regularization)) : 1.0L;
+      }
+    }
     statistics_.information_nonzeros = H.nonZeros();
     Real max_diagonal = 0;
     std::vector<Real> diagonal(dimension);
@@ -335,7 +342,7 @@ bool SmootherCovariance::Compute(
       if (dependent < 0 && (l_jj <= qr_tolerance || relative <= options_.min_relative_pivot))
         dependent = j;
     }
-    if (dependent >= 0) {
+    if (dependent >= 0 && options_.regularization <= 0.0) {
       message_ = "the Jacobian is rank deficient (column " + std::to_string(dependent) + " of " +
                  std::to_string(dimension) + " depends on the earlier ones)";
       return false;
@@ -349,6 +356,7 @@ bool SmootherCovariance::Compute(
       message_ = "selected inversion failed (pattern not closed)";
       return false;
     }
+    if (group && !FitGroup(*group, ordered, Z, problem)) return false;
   } else {
     t0 = std::chrono::steady_clock::now();
   }
@@ -369,6 +377,63 @@ bool SmootherCovariance::Compute(
   }
   statistics_.inversion_s = ElapsedSeconds(t0);
   valid_ = true;
+  return true;
+}
+
+// The group's chi2 and redundancy (ResidualGroupFit): per residual block, the entries of Z = H^-1
+// on the columns its rows touch, and tr(Z_b J_b^T J_b) = sum over its rows of j^T Z_b j.
+bool SmootherCovariance::FitGroup(const std::vector<ceres::ResidualBlockId>& group,
+                                  const std::vector<double*>& ordered,
+                                  const Eigen::SparseMatrix<long double>& Z,
+                                  ceres::Problem* problem) {
+  using namespace smoother_covariance_internal;
+  ceres::Problem::EvaluateOptions evaluate_options;
+  evaluate_options.parameter_blocks = ordered;
+  evaluate_options.residual_blocks = group;
+  evaluate_options.apply_loss_function = true;
+  evaluate_options.num_threads = std::max(1, options_.num_threads);
+  std::vector<double> residuals;
+  ceres::CRSMatrix J;
+  if (!problem->Evaluate(evaluate_options, nullptr, &residuals, nullptr, &J)) {
+    message_ = "the Jacobian of the residual group could not be evaluated";
+    return false;
+  }
+  long double trace = 0;
+  int row = 0;
+  std::vector<int> columns;
+  for (const ceres::ResidualBlockId id : group) {
+    const int rows = problem->GetCostFunctionForResidualBlock(id)->num_residuals();
+    columns.clear();
+    for (int r = row; r < row + rows; ++r)
+      columns.insert(columns.end(), J.cols.begin() + J.rows[r], J.cols.begin() + J.rows[r + 1]);
+    std::sort(columns.begin(), columns.end());
+    columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
+    const int m = static_cast<int>(columns.size());
+    Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic> Z_b(m, m);
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b <= a; ++b) {
+        const long double z = LowerEntry(Z, columns[a], columns[b]);  // columns sorted: a >= b
+        if (std::isnan(static_cast<double>(z))) {
+          message_ = "a residual of the group couples columns off the factor's pattern";
+          return false;
+        }
+        Z_b(a, b) = Z_b(b, a) = z;
+      }
+    Eigen::Matrix<long double, Eigen::Dynamic, 1> j(m);
+    for (int r = row; r < row + rows; ++r) {
+      j.setZero();
+      for (int q = J.rows[r]; q < J.rows[r + 1]; ++q) {
+        const int a = static_cast<int>(std::lower_bound(columns.begin(), columns.end(), J.cols[q]) -
+                                       columns.begin());
+        j(a) = J.values[q];
+      }
+      trace += j.dot(Z_b * j);
+      group_fit_.chi2 += residuals[r] * residuals[r];
+    }
+    row += rows;
+  }
+  group_fit_.residuals = row;
+  group_fit_.redundancy = static_cast<double>(row - trace);
   return true;
 }
 

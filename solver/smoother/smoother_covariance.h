@@ -56,16 +56,13 @@
 //   it: its covariance would not be accurate to 1e-9 here anyway.
 #pragma once
 
+#include <ceres/problem.h>
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <map>
 #include <string>
 #include <utility>
 #include <vector>
-
-namespace ceres {
-class Problem;
-}
 
 namespace mavloc {
 
@@ -83,6 +80,11 @@ struct SmootherCovarianceOptions {
   int num_threads = 1;  // Jacobian evaluation
   // A pivot L_jj^2 <= min_relative_pivot H_jj makes the problem rank deficient (header comment).
   double min_relative_pivot = 1e-10;
+  // > 0: H + regularization diag(H) is factored and the rank tests are skipped. For the residual
+  // group fit of a problem with free directions (laser-only data): those directions are null in
+  // every residual, so tr((H + eps D)^-1 J_g^T J_g) tends to tr(H^+ J_g^T J_g) as eps -> 0. The
+  // covariance blocks of a regularized problem are not the problem's.
+  double regularization = 0.0;
 };
 
 struct SmootherCovarianceStatistics {
@@ -99,6 +101,21 @@ struct SmootherCovarianceStatistics {
   double inversion_s = 0.0;  // selected inversion + extraction of the blocks
 };
 
+// How much of a group of residuals the solution explains (variance component estimation:
+// Koch, "Parameter Estimation and Hypothesis Testing in Linear Models", 1999, sec. 3.6.4; Förstner
+// 1979). For whitened residuals v_g of n_g rows and Jacobian J_g at the solution, with
+// H = J^T J over all residuals, the group's redundancy is r_g = n_g - tr(H^-1 J_g^T J_g), and
+// E[v_g^T v_g] = r_g when the group's stated noise is right, so chi2 / redundancy estimates the
+// factor by which its variances are off. The trace needs H^-1 only on the blocks the group's rows
+// touch together, which lie on the factor's pattern when each residual of the group couples
+// consecutive keyframes (IMU factors).
+struct ResidualGroupFit {
+  int residuals = 0;        // n_g
+  double chi2 = 0.0;        // v_g^T v_g at the solution
+  double redundancy = 0.0;  // n_g - tr(H^-1 J_g^T J_g)
+  double VarianceFactor() const { return redundancy > 0.0 ? chi2 / redundancy : 0.0; }
+};
+
 class SmootherCovariance {
  public:
   explicit SmootherCovariance(const SmootherCovarianceOptions& options = {});
@@ -106,9 +123,12 @@ class SmootherCovariance {
   // Computes the requested blocks (pairs of parameter blocks of the problem, as for
   // ceres::Covariance::Compute). False when the Jacobian is rank deficient or cannot be evaluated
   // (message() says which); the blocks are then unavailable.
+  // With group (residual blocks of the problem), also the group's fit (group_fit()); Compute is
+  // false when a pair of columns that one of its residual blocks touches is not on the factor's
+  // pattern.
   bool Compute(const SmootherCovarianceLayout& layout,
                const std::vector<std::pair<const double*, const double*>>& covariance_blocks,
-               ceres::Problem* problem);
+               ceres::Problem* problem, const std::vector<ceres::ResidualBlockId>* group = nullptr);
 
   // As ceres::Covariance::GetCovarianceBlockInTangentSpace: the row-major tangent_size(a) x
   // tangent_size(b) block; zeros when either block is constant or in no residual. False when the
@@ -117,8 +137,14 @@ class SmootherCovariance {
 
   const std::string& message() const { return message_; }
   const SmootherCovarianceStatistics& statistics() const { return statistics_; }
+  const ResidualGroupFit& group_fit() const { return group_fit_; }
 
  private:
+  bool FitGroup(const std::vector<ceres::ResidualBlockId>& group,
+                const std::vector<double*>& ordered, const Eigen::SparseMatrix<long double>& Z,
+                ceres::Problem* problem);
+
+  ResidualGroupFit group_fit_;
   SmootherCovarianceOptions options_;
   bool valid_ = false;
   std::string message_;

@@ -94,6 +94,10 @@ int KeyframeAt(const std::vector<TimeNs>& times, TimeNs t_ns) {
   return best_dt <= kAttachToleranceNs ? best : -1;
 }
 
+// Relative regularization of the IMU noise fit's information matrix (SmootherCovarianceOptions):
+// small against every constrained direction's curvature, large against long double rounding.
+constexpr double kImuFitRegularization = 1e-9;
+
 double Seconds(std::chrono::steady_clock::duration d) {
   return std::chrono::duration<double>(d).count();
 }
@@ -249,20 +253,21 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
     }
 
     // Inertial factors.
+    std::vector<ceres::ResidualBlockId> imu_group;
     for (int k = 0; k + 1 < n; ++k) {
       KeyframeBlocks& a = blocks[k];
       KeyframeBlocks& b = blocks[k + 1];
       const ImuPreintegration& pre = preintegrations[k];
       const Eigen::Matrix<double, 9, 9> sqrt_information = pre.SqrtInformation(1e-9, 1e-9, 1e-9);
-      problem.AddResidualBlock(options.autodiff_jacobians
-                                   ? ImuFactorAutoDiff::Create(pre, sqrt_information)
-                                   : ImuFactor::Create(pre, sqrt_information),
-                               nullptr, a.q.data(), a.p.data(), a.v.data(), a.b_g.data(),
-                               a.b_a.data(), b.q.data(), b.p.data(), b.v.data());
-      problem.AddResidualBlock(
+      imu_group.push_back(problem.AddResidualBlock(
+          options.autodiff_jacobians ? ImuFactorAutoDiff::Create(pre, sqrt_information)
+                                     : ImuFactor::Create(pre, sqrt_information),
+          nullptr, a.q.data(), a.p.data(), a.v.data(), a.b_g.data(), a.b_a.data(), b.q.data(),
+          b.p.data(), b.v.data()));
+      imu_group.push_back(problem.AddResidualBlock(
           BiasRandomWalkFactor::Create(noise.gyroscope_random_walk, noise.accelerometer_random_walk,
                                        pre.dt_s()),
-          nullptr, a.b_g.data(), a.b_a.data(), b.b_g.data(), b.b_a.data());
+          nullptr, a.b_g.data(), a.b_a.data(), b.b_g.data(), b.b_a.data()));
     }
     problem.AddResidualBlock(
         VectorPriorFactor::Create(Eigen::Vector3d::Zero(), options.gyro_bias_prior_rad_s), nullptr,
@@ -600,6 +605,33 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
     const bool calibration_asked =
         options.calibration_covariance &&
         (!estimated_cameras.empty() || time_offset_estimated || tilt_estimated);
+    // The keyframe chain in time order; every other block is placed after the last keyframe that
+    // shares a residual with it (smoother_covariance.h).
+    const auto covariance_layout = [&] {
+      SmootherCovarianceLayout layout;
+      layout.keyframes.reserve(n);
+      for (auto& b : blocks)
+        layout.keyframes.push_back(
+            {b.q.data(), b.p.data(), b.v.data(), b.b_g.data(), b.b_a.data()});
+      for (auto& [id, p] : landmarks) layout.others.push_back(p.data());
+      layout.others.insert(layout.others.end(),
+                           {plane_n.data(), plane_d.data(), q_W_M.data(), time_offset.data()});
+      for (auto& [cam, e] : extrinsics) {
+        layout.others.push_back(e.q.data());
+        layout.others.push_back(e.p.data());
+      }
+      return layout;
+    };
+    if (last_round && options.fit_imu_noise && !imu_group.empty()) {
+      SmootherCovarianceOptions fit_options;
+      fit_options.num_threads = std::max(1, options.num_threads);
+      fit_options.regularization = kImuFitRegularization;
+      SmootherCovariance fit(fit_options);
+      if (fit.Compute(covariance_layout(), {}, &problem, &imu_group))
+        result.imu_fit = fit.group_fit();
+      else if (options.verbose)
+        std::fprintf(stderr, "IMU noise fit: %s\n", fit.message().c_str());
+    }
     if (last_round && (options.compute_covariance || calibration_asked)) {
       const auto t_cov = std::chrono::steady_clock::now();
       std::vector<std::pair<const double*, const double*>> pairs;
@@ -634,19 +666,7 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
       } else {
         // The keyframe chain in time order; every other block is placed after the last keyframe
         // that shares a residual with it (smoother_covariance.h).
-        SmootherCovarianceLayout layout;
-        layout.keyframes.reserve(n);
-        for (auto& b : blocks)
-          layout.keyframes.push_back(
-              {b.q.data(), b.p.data(), b.v.data(), b.b_g.data(), b.b_a.data()});
-        for (auto& [id, p] : landmarks) layout.others.push_back(p.data());
-        layout.others.insert(layout.others.end(),
-                             {plane_n.data(), plane_d.data(), q_W_M.data(), time_offset.data()});
-        for (auto& [cam, e] : extrinsics) {
-          layout.others.push_back(e.q.data());
-          layout.others.push_back(e.p.data());
-        }
-        computed = structured.Compute(layout, pairs, &problem);
+        computed = structured.Compute(covariance_layout(), pairs, &problem);
         st.covariance_min_relative_pivot = structured.statistics().min_relative_pivot;
         if (!computed && options.verbose)
           std::fprintf(stderr, "covariance: %s\n", structured.message().c_str());

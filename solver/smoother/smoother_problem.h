@@ -29,6 +29,7 @@
 #include "core/pose.h"
 #include "solver/laser/laser_spot_model.h"
 #include "solver/smoother/imu_preintegration.h"
+#include "solver/smoother/smoother_covariance.h"
 
 namespace mavloc {
 
@@ -107,6 +108,10 @@ struct SmootherProblemOptions {
   // Marginal covariances of the estimated calibration blocks.
   bool calibration_covariance = true;
 
+  // The IMU residuals' fit at the solution (SmootherResult::imu_fit): their chi2 against their
+  // redundancy, which says by how much the IMU noise densities are off (smoother_covariance.h,
+  // ResidualGroupFit).
+  bool fit_imu_noise = false;
   // Noise floors (continuous densities) used where the dataset's IMU noise is zero or smaller.
   ImuNoise noise_floor{1e-4, 1e-7, 1e-3, 1e-6};
   // Prior on the first keyframe's biases (zero mean).
@@ -177,6 +182,8 @@ struct SmootherResult {
   SmootherCalibration calibration;
   SmootherCornerStatistics corner_statistics;
   SmootherStatistics statistics;
+  // With options.fit_imu_noise: the IMU preintegration and bias random-walk factors' fit.
+  std::optional<ResidualGroupFit> imu_fit;
 };
 
 // Solves the smoother from initial keyframe states (sorted by time, inside the IMU stream; in the

@@ -105,6 +105,8 @@ std::vector<Case> Cases() {
        {"--option neighbour_frames=1", "[2, inf)"}},
       {"run --dataset nowhere --estimator smoother --out o.txt --option autodiff_jacobians=maybe",
        {"autodiff_jacobians=maybe", "true or false"}},
+      {"run --dataset nowhere --estimator smoother --out o.txt --option fit_imu_noise=2",
+       {"fit_imu_noise=2", "true or false"}},
       {"run --dataset nowhere --estimator tag-pnp --out o.txt --option refine_sigma_rad=-1",
        {"--option refine_sigma_rad=-1", "(0, inf) rad"}},
       {"run --dataset nowhere --estimator tag-pnp --out o.txt --option refine_loss_px=nan",
