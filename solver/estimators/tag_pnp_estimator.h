@@ -21,7 +21,7 @@
 // (2), ransac (1), ransac_threshold_px (4), ransac_min_tags (2), single_tag (1),
 // min_ambiguity_ratio (0), map_check (1), refine_map (auto), refine_sigma_m (0.1),
 // refine_sigma_rad (0.1), refine_loss (cauchy), refine_loss_px (2), refine_gate_px (8),
-// neighbour_gate_m (0.3; 0: off), neighbour_frames (20), neighbour_window_s (1.5).
+// neighbour_gate_m (0.2; 0: off), neighbour_frames (20), neighbour_window_s (1.5).
 #pragma once
 
 #include <map>

@@ -352,11 +352,12 @@ int RefusedByTheGate(const Estimate& estimate) {
 }
 
 // The same log with tag-pnp's defaults: the map check names loose tags, so the map is refined
-// (refine_map=auto), and the check across frames (neighbour_gate_m 0.3 within 1.5 s) refuses the
-// poses their neighbours disagree with. At least 90 % of the 1434 frames keep a pose. What is left
-// beyond 0.3 m (1.3 %) is runs of frames that agree with each other between gaps of seconds
-// (docs/commands/logs.md); without the bound in time the gate also compares across the gaps, which
-// on this log leaves at most 1 % beyond 0.3 m but on tests 2, 21 and 22 refuses good frames.
+// (refine_map=auto), and the check across frames (neighbour_gate_m 0.2 within 1.5 s) refuses the
+// poses their neighbours disagree with: at most 1 % of the frames beyond 0.3 m of TagSLAM's
+// trajectory while at least 90 % of the 1434 frames keep a pose. What is left beyond 0.3 m is runs
+// of frames that agree with each other (docs/commands/logs.md). Without the bound in time the
+// gate also compares across the gaps, which on this log leaves fewer beyond 0.3 m but on tests 2,
+// 21 and 22 refuses good frames.
 TEST(TagMapRefine, TagslamTest11Defaults) {
   REQUIRE_SHARED_DATA();
   const Test11 test11 = ImportTest11Cam0();
@@ -381,7 +382,7 @@ TEST(TagMapRefine, TagslamTest11Defaults) {
   EXPECT_EQ(errors.size(), estimate.poses.size());
   EXPECT_GT(RefusedByTheGate(estimate), 0);
   EXPECT_LT(FractionBeyond(errors, 0.3), FractionBeyond(e_plain, 0.3) / 3.0);
-  EXPECT_LE(FractionBeyond(errors, 0.3), 0.015);
+  EXPECT_LE(FractionBeyond(errors, 0.3), 0.01);
   EXPECT_GE(unbounded.poses.size(), 1291u);
   EXPECT_LE(FractionBeyond(e_unbounded, 0.3), 0.01);
 }
