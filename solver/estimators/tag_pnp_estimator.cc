@@ -1,5 +1,7 @@
 #include "solver/estimators/tag_pnp_estimator.h"
 
+#include <fmt/format.h>
+
 #include "solver/pose/corner_pnp_ransac.h"
 #include "solver/pose/neighbour_gate.h"
 #include "solver/pose/tag_map_check.h"
@@ -49,6 +51,10 @@ Estimate TagPnpEstimator::RunInWorld(const Dataset& dataset) const {
                       (refine_.mode == TagMapRefineMode::kAuto && !check.disagreeing.empty());
   const std::map<int, TagInfo> tags =
       refine ? RefinedMap(frames, dataset.map.tags, camera, &estimate) : dataset.map.tags;
+  if (refine && refine_.mode == TagMapRefineMode::kAuto && !estimate.events.empty())
+    estimate.events.back() =
+        fmt::format("{} (refine_map=auto: the map check named {} tag{})", estimate.events.back(),
+                    check.disagreeing.size(), check.disagreeing.size() == 1 ? "" : "s");
   std::vector<CornerRansacResult> results;
   std::vector<TimeNs> frame_t_ns;
   results.reserve(frames.size());

@@ -137,7 +137,7 @@ std::vector<bool> NeighbourGateRefusals(const std::vector<double>& times_s,
 
 std::string NeighbourGateReason(const NeighbourGateOptions& options) {
   return fmt::format(
-      "position more than {:g} m from the median of its neighbouring posed frames (up to {} "
+      "position more than {:g} m from where its neighbouring posed frames put it (up to {} "
       "within {:g} s; neighbour_gate_m)",
       options.gate_m, options.frames, options.window_s);
 }
