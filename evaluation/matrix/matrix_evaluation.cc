@@ -3,11 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <utility>
 #include <cmath>
 #include <filesystem>
 #include <map>
 #include <regex>
+#include <utility>
 
 #include "core/errors.h"
 #include "datasets/io/trajectory_formats/trajectory_format.h"
