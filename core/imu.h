@@ -28,6 +28,13 @@ struct ImuNoise {
   double accelerometer_random_walk = 0.0;    // m / s^3 / sqrt(Hz)
 };
 
+// Every density times k (a noise model scaled as a whole: Kalibr users' inflation, the smoother's
+// fitted scale).
+inline ImuNoise ScaledImuNoise(const ImuNoise& noise, double k) {
+  return {k * noise.gyroscope_noise_density, k * noise.gyroscope_random_walk,
+          k * noise.accelerometer_noise_density, k * noise.accelerometer_random_walk};
+}
+
 // sigma_d = sigma_c / sqrt(dt) and its inverse.
 inline double DiscreteSigma(double density, double dt_s) { return density / std::sqrt(dt_s); }
 inline double DensityFromDiscreteSigma(double sigma, double dt_s) {

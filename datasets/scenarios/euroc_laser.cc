@@ -108,9 +108,7 @@ std::string ApplyImuNoiseSettings(const ScenarioOptions& options, const std::str
   const double scale = options.GetDouble("imu_noise_scale", 1.0);
   if (!(scale > 0.0 && scale <= 1e3))
     throw InputError(prefix + "imu_noise_scale must be in (0, 1000]");
-  for (double* density : {&noise->gyroscope_noise_density, &noise->gyroscope_random_walk,
-                          &noise->accelerometer_noise_density, &noise->accelerometer_random_walk})
-    *density *= scale;
+  *noise = ScaledImuNoise(*noise, scale);
   return fmt::format(
       "{}{}: gyro {:.3g} rad/s/sqrt(Hz), {:.3g} rad/s^2/sqrt(Hz); accel {:.3g} m/s^2/sqrt(Hz), "
       "{:.3g} m/s^3/sqrt(Hz)",

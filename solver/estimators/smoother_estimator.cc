@@ -266,11 +266,7 @@ void RefitImuNoise(const Dataset& dataset, const SmootherProblemOptions& options
       result->statistics = all_solves;
       return;
     }
-    ImuNoise& noise = scaled.imu.noise;
-    noise = dataset.imu.noise;
-    for (double* density : {&noise.gyroscope_noise_density, &noise.gyroscope_random_walk,
-                            &noise.accelerometer_noise_density, &noise.accelerometer_random_walk})
-      *density *= scale;
+    scaled.imu.noise = ScaledImuNoise(dataset.imu.noise, scale);
     SmootherProblemOptions continued = options;
     continued.initial_T_B_C = result->calibration.T_B_C;
     continued.initial_time_offset_s = result->calibration.time_offset_s;

@@ -114,22 +114,22 @@ std::vector<bool> NeighbourGateRefusals(const std::vector<double>& times_s,
   for (size_t i = 0; i < n; ++i) {
     const Neighbourhood near = NeighboursOf(times_s, i, half, half_window_s);
     const size_t side = std::min(near.before.size(), near.after.size());
-    std::vector<size_t> neighbours;
+    Eigen::Vector3d predicted_W;
     if (side >= kMinNeighbours) {
       // Inside a run: as many frames after as before, whose median a steady motion centres on the
       // frame (a step of wrong frames does not tilt it, as a fitted slope would).
-      neighbours.assign(near.before.begin(), near.before.begin() + static_cast<long>(side));
+      std::vector<size_t> neighbours(near.before.begin(),
+                                     near.before.begin() + static_cast<long>(side));
       neighbours.insert(neighbours.end(), near.after.begin(),
                         near.after.begin() + static_cast<long>(side));
+      predicted_W = MedianPosition(positions_W, neighbours);
     } else {
       // Next to a gap or an end of the log: what there is, with the slope.
-      neighbours = near.before;
+      std::vector<size_t> neighbours = near.before;
       neighbours.insert(neighbours.end(), near.after.begin(), near.after.end());
       if (neighbours.size() < kMinOneSided) continue;  // too little to compare with
+      predicted_W = PredictedPosition(times_s, positions_W, neighbours, i);
     }
-    const Eigen::Vector3d predicted_W =
-        side >= kMinNeighbours ? MedianPosition(positions_W, neighbours)
-                               : PredictedPosition(times_s, positions_W, neighbours, i);
     refused[i] = (positions_W[i] - predicted_W).norm() > options.gate_m;
   }
   return refused;

@@ -424,10 +424,7 @@ TEST(SmootherImuNoiseFit, RecoversTheScaleOfTheSimulatedNoise) {
     ASSERT_TRUE(s1.sigma.has_value());
     EXPECT_LT(std::abs(s1.value - 1.0), 3.0 * *s1.sigma) << "seed " << seed;
     sum += s1.value;
-    ImuNoise& noise = dataset.imu.noise;
-    for (double* density : {&noise.gyroscope_noise_density, &noise.gyroscope_random_walk,
-                            &noise.accelerometer_noise_density, &noise.accelerometer_random_walk})
-      *density *= 0.5;
+    dataset.imu.noise = ScaledImuNoise(dataset.imu.noise, 0.5);
     const Estimate halved = SmootherEstimator(fit).Run(dataset);
     ASSERT_TRUE(halved.parameters.count("imu_noise_scale")) << seed;
     const EstimatedParameter& s2 = halved.parameters.at("imu_noise_scale");
@@ -441,10 +438,7 @@ TEST(SmootherImuNoiseFit, RecoversTheScaleOfTheSimulatedNoise) {
   EXPECT_FALSE(SmootherEstimator(Options({})).Run(dataset).parameters.count("imu_noise_scale"));
   // Stated densities 100 times what was simulated: a scale below 0.05 is refused as a model error
   // (events say so), and the solution is the stated densities' one.
-  ImuNoise& noise = dataset.imu.noise;
-  for (double* density : {&noise.gyroscope_noise_density, &noise.gyroscope_random_walk,
-                          &noise.accelerometer_noise_density, &noise.accelerometer_random_walk})
-    *density *= 100.0;
+  dataset.imu.noise = ScaledImuNoise(dataset.imu.noise, 100.0);
   const Estimate refused = SmootherEstimator(fit).Run(dataset);
   const Estimate plain = SmootherEstimator(Options({})).Run(dataset);
   EXPECT_FALSE(refused.parameters.count("imu_noise_scale"));
