@@ -29,6 +29,30 @@
 
 namespace mavloc::cli {
 
+namespace {
+
+// The rows a report file keeps by default: an hour at 20 Hz thinned to about 6 MB per trajectory.
+constexpr size_t kReportFileMaxRows = 50'000;
+
+// Which files keep every k-th row only: in report.json (details.report_files) and as a warning.
+void NoteThinnedFiles(const std::map<std::string, size_t>& strides, Report* model) {
+  if (strides.empty()) return;
+  nlohmann::json every_kth_row = nlohmann::json::object();
+  std::string list;
+  for (const auto& [file, stride] : strides) {
+    every_kth_row[file] = stride;
+    list += fmt::format("{}{}: 1 row in {}", list.empty() ? "" : "; ", file, stride);
+  }
+  model->details["report_files"] = {{"max_rows", kReportFileMaxRows},
+                                    {"every_kth_row", every_kth_row}};
+  model->warnings.push_back(
+      fmt::format("report files thinned to at most {} rows ({}); the metrics use every row; "
+                  "--full-rate-files writes them all",
+                  kReportFileMaxRows, list));
+}
+
+}  // namespace
+
 void RegisterCompare(CLI::App& app, int* exit_code) {
   auto* command = app.add_subcommand(
       "compare",
@@ -41,6 +65,7 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
     double duration_s = 0.0, max_dt_s = 0.02;
     std::vector<std::string> settings, options;
     bool force = false;
+    bool full_rate_files = false;
   };
   auto args = std::make_shared<Args>();
   auto* scenario =
@@ -66,6 +91,11 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
                       "EuRoC CSV) or a log topic (LOG.bag:/odom, LOG.ulg:vehicle_attitude) "
                       "instead of the ground truth: for logs without ground truth. The reference "
                       "is an estimate, not a truth");
+  command->add_flag("--full-rate-files", args->full_rate_files,
+                    "Write truth.tum, the estimates and errors.csv at every row (by default a "
+                    "file keeps at most " +
+                        std::to_string(kReportFileMaxRows) +
+                        " rows: every k-th row of longer ones)");
   command->add_option("--max-dt", args->max_dt_s, "Association tolerance in seconds")
       ->check(PositiveFinite())
       ->capture_default_str();
@@ -240,8 +270,13 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       }
     }
     model.details["not_applicable"] = left_out;
-    model.files["errors.csv"] = ErrorsCsv(evaluations);
-    model.files.merge(ComparisonTrajectoryFiles(dataset, evaluations));
+    const size_t max_rows = args->full_rate_files ? 0 : kReportFileMaxRows;
+    std::map<std::string, size_t> strides;
+    size_t errors_stride = 1;
+    model.files["errors.csv"] = ErrorsCsv(evaluations, max_rows, &errors_stride);
+    if (errors_stride > 1) strides["errors.csv"] = errors_stride;
+    model.files.merge(ComparisonTrajectoryFiles(dataset, evaluations, max_rows, &strides));
+    NoteThinnedFiles(strides, &model);
     if (reference && !reference->poses.empty())
       model.files["reference.tum"] = TumTrajectoryText(reference->poses);
     WriteReport(report.path(), model);

@@ -196,13 +196,19 @@ nlohmann::json EvaluationToJson(const EstimatorEvaluation& evaluation) {
   return j;
 }
 
-std::string ErrorsCsv(const std::vector<EstimatorEvaluation>& evaluations) {
+std::string ErrorsCsv(const std::vector<EstimatorEvaluation>& evaluations, size_t max_rows,
+                      size_t* stride) {
+  size_t rows = 0;
+  for (const auto& e : evaluations)
+    for (const auto& q : e.quantity_errors) rows += q.error.size();
+  const size_t k = RowStride(rows, max_rows);
+  if (stride) *stride = k;
   std::string csv = "estimator,quantity,unit,t_s,estimate,truth,error\n";
   for (const auto& e : evaluations) {
     for (const auto& q : e.quantity_errors) {
       const double scale = ReportScale(q.unit);
       const std::string unit = ReportUnit(q.unit);
-      for (size_t i = 0; i < q.error.size(); ++i) {
+      for (size_t i = 0; i < q.error.size(); i += k) {
         csv += fmt::format("{},{},{},{:.9f},{:.9g},{:.9g},{:.9g}\n", e.estimator, q.name, unit,
                            NsToSeconds(q.t_ns[i]), q.estimate[i] * scale, q.truth[i] * scale,
                            q.error[i] * scale);

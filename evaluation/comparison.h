@@ -79,7 +79,10 @@ EstimatorEvaluation RunAndEvaluate(const std::string& estimator_name,
 // {rmse, align, ...}, "runtime_s"}, every value in SI units (angles in radians) with its unit.
 nlohmann::json EvaluationToJson(const EstimatorEvaluation& evaluation);
 
-// errors.csv (long format: estimator, quantity, unit, t, estimate, truth, error).
-std::string ErrorsCsv(const std::vector<EstimatorEvaluation>& evaluations);
+// errors.csv (long format: estimator, quantity, unit, t, estimate, truth, error). With max_rows > 0
+// and more rows than that, every series keeps every k-th row (k = RowStride of all rows, returned
+// in *stride when given).
+std::string ErrorsCsv(const std::vector<EstimatorEvaluation>& evaluations, size_t max_rows = 0,
+                      size_t* stride = nullptr);
 
 }  // namespace mavloc

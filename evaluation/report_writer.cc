@@ -16,14 +16,31 @@
 
 namespace mavloc {
 
+size_t RowStride(size_t rows, size_t max_rows) {
+  if (max_rows == 0 || rows <= max_rows) return 1;
+  return (rows + max_rows - 1) / max_rows;
+}
+
 std::map<std::string, std::string> ComparisonTrajectoryFiles(
-    const Dataset& dataset, const std::vector<EstimatorEvaluation>& evaluations) {
+    const Dataset& dataset, const std::vector<EstimatorEvaluation>& evaluations, size_t max_rows,
+    std::map<std::string, size_t>* strides) {
   std::map<std::string, std::string> files;
+  // Every k-th pose of `poses` (all of them when they fit), k noted for the report.
+  const auto thinned = [&](const std::string& name, std::vector<StampedPose> poses) {
+    const size_t stride = RowStride(poses.size(), max_rows);
+    if (stride > 1) {
+      size_t kept = 0;
+      for (size_t i = 0; i < poses.size(); i += stride) poses[kept++] = poses[i];
+      poses.resize(kept);
+      if (strides) (*strides)[name] = stride;
+    }
+    files[name] = TumTrajectoryText(poses);
+  };
   if (!dataset.ground_truth.empty()) {
     std::vector<StampedPose> truth;
     truth.reserve(dataset.ground_truth.size());
     for (const auto& state : dataset.ground_truth) truth.push_back({state.t_ns, state.T_W_B});
-    files["truth.tum"] = TumTrajectoryText(truth);
+    thinned("truth.tum", std::move(truth));
   }
   for (const auto& evaluation : evaluations) {
     if (!evaluation.ran || evaluation.estimate.poses.empty()) continue;
@@ -36,7 +53,7 @@ std::map<std::string, std::string> ComparisonTrajectoryFiles(
     std::string name = evaluation.estimator;
     for (char& c : name)
       if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '.') c = '-';
-    files["estimate_" + name + ".tum"] = TumTrajectoryText(poses);
+    thinned("estimate_" + name + ".tum", std::move(poses));
   }
   return files;
 }

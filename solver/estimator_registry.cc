@@ -286,12 +286,15 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
            "loss_scale",
            "max_iterations",
            "max_time_offset_ms",
+           "memory_budget_mib",
            "pixel_sigma_px",
            "relinearize",
            "seed",
            "threads",
            "time_offset_init_ms",
-           "verbose"},
+           "verbose",
+           "window_overlap_s",
+           "window_s"},
           {"seed."}),
   };
   return kEntries;

@@ -14,6 +14,7 @@
 #include "solver/board/board_gravity_from_positions.h"
 #include "solver/imu/imu_integrator.h"
 #include "solver/laser/laser_calibration.h"
+#include "solver/smoother/smoother_windows.h"
 #include "solver/smoother/tilt_manifold.h"
 
 namespace mavloc {
@@ -173,17 +174,6 @@ std::pair<double, double> TriangleAngles(const Eigen::Vector3d& P1, const Eigen:
 constexpr double kLooseGyroBiasPriorDegS = 0.5;
 constexpr double kLooseAccelBiasPriorMS2 = 0.1;
 
-void AddStatistics(const SmootherStatistics& from, SmootherStatistics* to) {
-  to->iterations += from.iterations;
-  to->solves += from.solves;
-  to->preintegration_s += from.preintegration_s;
-  to->solve_s += from.solve_s;
-  to->linear_solver_s += from.linear_solver_s;
-  to->residual_evaluation_s += from.residual_evaluation_s;
-  to->jacobian_evaluation_s += from.jacobian_evaluation_s;
-  to->covariance_s += from.covariance_s;
-}
-
 // SolveSmoother, robust to a tight bias prior (a sensor stated bias-free). A tight prior leaves the
 // optimizer no slack to absorb the seed's inconsistency with the precise IMU, and from a poor seed
 // it can stall far from the solution (laser-plane seed 2); a loose prior first, then the tight one
@@ -296,6 +286,29 @@ void RefitImuNoise(const Dataset& dataset, const SmootherProblemOptions& options
 constexpr double kPlausibleCostFactor = 10.0;
 // The growing window's first span (option grow_window_s; 0 turns the growing window off).
 constexpr double kDefaultGrowWindowS = 3.0;
+
+// Windows (solver/smoother/smoother_windows.h). The batch's memory is estimated from its size:
+// Ceres' residual blocks, cost functions, Jacobian and sparse Cholesky per visual residual (2 rows
+// of 6 tangent columns) and per keyframe (IMU factor, preintegration, 15 states). Measured as the
+// difference in peak RSS of `mavloc run --estimator smoother` with window_s=0 and window_s=30 on a
+// simulated 300 s mav-figure-eight (256,219 visual residuals, 6,031 keyframes): 294 MB, where
+// these constants give 328 MB (docs/performance.md).
+constexpr double kBytesPerVisualResidual = 1000.0;
+constexpr double kBytesPerKeyframe = 12000.0;
+constexpr double kDefaultMemoryBudgetMiB = 1024.0;
+constexpr double kDefaultWindowOverlapS = 5.0;
+constexpr double kMinWindowS = 30.0;
+
+double BatchMebibytes(double keyframes, double visual_residuals) {
+  return (kBytesPerKeyframe * keyframes + kBytesPerVisualResidual * visual_residuals) /
+         (1024.0 * 1024.0);
+}
+
+// The visual residuals a smoother over `dataset` would build (before any is dropped).
+double VisualResidualCount(const Dataset& dataset) {
+  return static_cast<double>(dataset.features.size() + dataset.laser.size() +
+                             4 * (dataset.tags.size() + dataset.tags1.size()));
+}
 // A solution that kept fewer than this share of the spots has left out the spots whose beam misses
 // its plane (a seed gone astray): a small cost over the spots that are left proves nothing.
 constexpr double kMinSpotShare = 0.9;
@@ -413,6 +426,15 @@ SmootherEstimator::SmootherEstimator(const EstimatorOptions& options) : options_
     throw InputError("smoother: |time_offset_init_ms| must not exceed max_time_offset_ms");
   if (!(options_.GetDouble("gravity_window_s", 2.0) >= 0.5))
     throw InputError("smoother: gravity_window_s must be >= 0.5");
+  if (!(options_.GetDouble("memory_budget_mib", kDefaultMemoryBudgetMiB) > 0.0))
+    throw InputError("smoother: memory_budget_mib must be > 0");
+  const double window_s = options_.GetDouble("window_s", 0.0);
+  const double overlap_s = options_.GetDouble("window_overlap_s", kDefaultWindowOverlapS);
+  if (!(overlap_s > 0.0)) throw InputError("smoother: window_overlap_s must be > 0");
+  if (!(window_s == 0.0 || window_s > 2.0 * overlap_s))
+    throw InputError(
+        "smoother: window_s must be 0 (batch unless over memory_budget_mib) or more "
+        "than twice window_overlap_s");
   if (!(options_.GetDouble("grow_window_s", kDefaultGrowWindowS) >= 0.0))
     throw InputError("smoother: grow_window_s must be >= 0");
 }
@@ -625,6 +647,45 @@ Estimate SmootherEstimator::RunFromLaserModes(const Dataset& dataset,
   return estimate;
 }
 
+std::optional<SmootherWindowOptions> SmootherEstimator::WindowsFor(
+    const Dataset& dataset, const std::vector<SmootherKeyframe>& keyframes,
+    const SmootherProblemOptions& problem_options, Estimate* estimate) const {
+  if (keyframes.size() < 2) return std::nullopt;
+  SmootherWindowOptions windows;
+  windows.overlap_s = options_.GetDouble("window_overlap_s", kDefaultWindowOverlapS);
+  const double budget_mib = options_.GetDouble("memory_budget_mib", kDefaultMemoryBudgetMiB);
+  const double span_s = NsToSeconds(keyframes.back().t_ns - keyframes.front().t_ns);
+  const double batch_mib =
+      BatchMebibytes(static_cast<double>(keyframes.size()), VisualResidualCount(dataset));
+  const std::string unsupported = WindowsUnsupportedReason(dataset, problem_options);
+  windows.window_s = options_.GetDouble("window_s", 0.0);
+  if (windows.window_s > 0.0) {
+    if (!unsupported.empty())
+      throw InputError("smoother: window_s is set, but the problem cannot be solved in windows: " +
+                       unsupported);
+  } else {
+    if (batch_mib <= budget_mib) return std::nullopt;
+    if (!unsupported.empty()) {
+      estimate->events.push_back(fmt::format(
+          "solved as one batch of about {:.0f} MiB, over memory_budget_mib={:.0f}: it cannot be "
+          "solved in windows ({})",
+          batch_mib, budget_mib, unsupported));
+      return std::nullopt;
+    }
+    // The longest windows whose problem fits the budget.
+    windows.window_s =
+        std::max({kMinWindowS, 4.0 * windows.overlap_s, span_s * budget_mib / batch_mib});
+  }
+  const int count = static_cast<int>(std::ceil(std::max(span_s - windows.overlap_s, 0.0) /
+                                               (windows.window_s - windows.overlap_s)));
+  estimate->events.push_back(fmt::format(
+      "solved in {} windows of {:g} s overlapping by {:g} s, each starting from the previous "
+      "one's marginal prior (the batch of {:.0f} s would take about {:.0f} MiB; "
+      "memory_budget_mib={:.0f})",
+      std::max(count, 1), windows.window_s, windows.overlap_s, span_s, batch_mib, budget_mib));
+  return windows;
+}
+
 Estimate SmootherEstimator::RunFromSeedPoses(const Dataset& dataset,
                                              const std::vector<StampedPose>& seed_poses_in_map) {
   SmootherProblemOptions problem_options = ProblemOptionsFor(dataset);
@@ -681,8 +742,12 @@ Estimate SmootherEstimator::RunFromSeedPoses(const Dataset& dataset,
   // landmarks leave weak directions (scale, tilt vs bias) where the restart may be needed.
   const bool anchored = HasMapTags(dataset) || problem_options.landmarks == LandmarkMode::kKnown;
   const bool graduated = options_.GetBool("graduated", true) && !anchored;
+  const std::optional<SmootherWindowOptions> windows =
+      WindowsFor(dataset, init.keyframes, problem_options, &estimate);
   last_result_ =
-      SolveRobustly(dataset, init.keyframes, landmarks, plane, problem_options, graduated);
+      windows
+          ? SolveSmootherInWindows(dataset, init.keyframes, problem_options, *windows)
+          : SolveRobustly(dataset, init.keyframes, landmarks, plane, problem_options, graduated);
   RefitImuNoise(dataset, problem_options, &last_result_, &estimate);
   const SmootherResult& result = last_result_;
   if (!result.usable) {

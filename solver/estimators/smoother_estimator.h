@@ -20,7 +20,7 @@
 //                   built-in landmark-pnp for features0 with map landmarks)
 //   seed.KEY=VALUE  passed to the seed estimator as KEY=VALUE
 //   loss            huber | cauchy | none (huber)      loss_scale   in sigmas (2)
-//   covariance      0/1: marginal pose covariances (ceres::Covariance) (0)
+//   covariance      0/1: marginal pose covariances (smoother_covariance.h) (0)
 //   max_iterations  (50)   threads (2)   keyframe_stride (1: every camera frame)
 //   pixel_sigma_px, bearing_sigma_deg, laser_sigma_deg: measurement noise (default from
 //                   scenario.yaml when stated, else 1 px / 1 deg)
@@ -54,6 +54,14 @@
 //                        astray): solve again on the first grow_window_s seconds, then on windows
 //                        grown by up to 2 grow_window_s at a time, new keyframes from the IMU;
 //                        keep the lower cost (3; 0: off)
+// Long logs (solver/smoother/smoother_windows.h):
+//   memory_budget_mib    the batch problem's estimated memory above which the keyframes are solved
+//                        in overlapping windows, each starting from the previous one's marginal
+//                        prior, as long as the budget allows (1024)
+//   window_s             > 0: always solve in windows of this length (0: by the budget)
+//   window_overlap_s     the later measurements each kept keyframe has behind it (5)
+// Windows are refused for what a keyframe prior cannot carry (estimated landmarks, a laser plane,
+// calibration, fit_imu_noise): those problems are solved as one batch, with an event saying so.
 // On a board map (MapFrame::kBoard) the gravity direction in M is always estimated: the seed's
 // poses are in M; EstimateUpInBoardFromPositions (solver/board/board_gravity_from_positions.h)
 // gives the initial up_M from the first gravity_window_s of them and the accelerometer; the
@@ -65,12 +73,14 @@
 // of [p; dtheta]) per estimated camera.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "solver/estimator.h"
 #include "solver/smoother/smoother_initialization.h"
 #include "solver/smoother/smoother_problem.h"
+#include "solver/smoother/smoother_windows.h"
 
 namespace mavloc {
 
@@ -99,6 +109,12 @@ class SmootherEstimator : public Estimator {
   // Camera indices whose tags enter (option `cameras`).
   std::vector<int> CamerasFor(const Dataset& dataset) const;
   bool IsLaserOnly(const Dataset& dataset) const;
+  // The windows to solve `keyframes` in (options window_s, window_overlap_s, memory_budget_mib),
+  // nullopt for one batch; the choice is added to the estimate's events.
+  std::optional<SmootherWindowOptions> WindowsFor(const Dataset& dataset,
+                                                  const std::vector<SmootherKeyframe>& keyframes,
+                                                  const SmootherProblemOptions& problem_options,
+                                                  Estimate* estimate) const;
 
   EstimatorOptions options_;
   SmootherResult last_result_;

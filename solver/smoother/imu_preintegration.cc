@@ -87,7 +87,7 @@ void ImuPreintegration::Repropagate(const std::vector<ImuSample>& samples,
 }
 
 void ImuPreintegration::Propagate(const std::vector<ImuSample>& samples) {
-  steps_.clear();
+  num_steps_ = 0;
   covariance_.setZero();
   const ImuIntegrator integrator(&samples);
   const ImuBiases zero_biases;
@@ -141,7 +141,7 @@ void ImuPreintegration::Propagate(const std::vector<ImuSample>& samples) {
         noise_cov.diagonal().tail<3>().setConstant(var_a / h);
         covariance_ = m.A * covariance_ * m.A.transpose() + m.B * noise_cov * m.B.transpose();
       }
-      steps_.push_back(m);
+      ++num_steps_;
     }
 
     // RK4 step of the mean with the bias Jets.

@@ -45,7 +45,7 @@ struct ImuKeyframeState {
   ImuBiases biases;
 };
 
-// One step of the covariance propagation (exposed so that tests can check A and B).
+// One step of the covariance propagation (eq. 62-63).
 struct PreintegrationStepMatrices {
   Eigen::Matrix<double, 9, 9> A = Eigen::Matrix<double, 9, 9>::Identity();
   Eigen::Matrix<double, 9, 6> B = Eigen::Matrix<double, 9, 6>::Zero();  // noise (n_g, n_a)
@@ -95,8 +95,9 @@ class ImuPreintegration {
   // the biases are carried over unchanged.
   ImuKeyframeState Predict(const ImuKeyframeState& state_i) const;
 
-  // The per-interval propagation matrices used for the covariance, in order.
-  const std::vector<PreintegrationStepMatrices>& steps() const { return steps_; }
+  // How many propagation steps (sample intervals) the preintegration took. The step matrices
+  // themselves are not kept: a smoother holds one preintegration per keyframe.
+  int num_steps() const { return num_steps_; }
 
   // Recomputes everything with new linearization biases (when the estimate drifted far from b0).
   void Repropagate(const std::vector<ImuSample>& samples, const ImuBiases& linearization_biases);
@@ -118,7 +119,7 @@ class ImuPreintegration {
   Eigen::Matrix3d J_p_bg_ = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d J_p_ba_ = Eigen::Matrix3d::Zero();
   Eigen::Matrix<double, 9, 9> covariance_ = Eigen::Matrix<double, 9, 9>::Zero();
-  std::vector<PreintegrationStepMatrices> steps_;
+  int num_steps_ = 0;
 };
 
 }  // namespace mavloc

@@ -20,9 +20,11 @@
 #include "solver/smoother/residuals/imu_factor.h"
 #include "solver/smoother/residuals/laser_spot_plane_factor.h"
 #include "solver/smoother/residuals/map_point_reprojection_factor.h"
+#include "solver/smoother/residuals/marginal_prior_factor.h"
 #include "solver/smoother/residuals/pose_prior_factor.h"
 #include "solver/smoother/residuals/vector_prior_factor.h"
 #include "solver/smoother/smoother_covariance.h"
+#include "solver/smoother/smoother_marginalization.h"
 #include "solver/smoother/tilt_manifold.h"
 
 namespace mavloc {
@@ -147,6 +149,17 @@ std::string LinearSolverDescription(const ceres::Solver::Options& o) {
 
 }  // namespace
 
+void AddStatistics(const SmootherStatistics& from, SmootherStatistics* to) {
+  to->iterations += from.iterations;
+  to->solves += from.solves;
+  to->preintegration_s += from.preintegration_s;
+  to->solve_s += from.solve_s;
+  to->linear_solver_s += from.linear_solver_s;
+  to->residual_evaluation_s += from.residual_evaluation_s;
+  to->jacobian_evaluation_s += from.jacobian_evaluation_s;
+  to->covariance_s += from.covariance_s;
+}
+
 SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherKeyframe>& initial,
                              const std::map<int, Eigen::Vector3d>& initial_landmarks_W,
                              const std::optional<Plane>& initial_plane,
@@ -243,6 +256,9 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    // The marginalization asks for the residuals of each eliminated block: without the per-block
+    // residual sets Ceres scans every residual block for each question.
+    problem_options.enable_fast_removal = options.marginalize_before_keyframe > 0;
     ceres::Problem problem(problem_options);
     for (auto& b : blocks) {
       problem.AddParameterBlock(b.q.data(), 4, &quaternion_manifold);
@@ -269,17 +285,26 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
                                        pre.dt_s()),
           nullptr, a.b_g.data(), a.b_a.data(), b.b_g.data(), b.b_a.data()));
     }
-    problem.AddResidualBlock(
-        VectorPriorFactor::Create(Eigen::Vector3d::Zero(), options.gyro_bias_prior_rad_s), nullptr,
-        blocks[0].b_g.data());
-    problem.AddResidualBlock(
-        VectorPriorFactor::Create(Eigen::Vector3d::Zero(), options.accel_bias_prior_m_s2), nullptr,
-        blocks[0].b_a.data());
+    if (options.first_keyframe_prior) {
+      problem.AddResidualBlock(new MarginalPriorFactor(*options.first_keyframe_prior), nullptr,
+                               blocks[0].q.data(), blocks[0].p.data(), blocks[0].v.data(),
+                               blocks[0].b_g.data(), blocks[0].b_a.data());
+    } else {
+      problem.AddResidualBlock(
+          VectorPriorFactor::Create(Eigen::Vector3d::Zero(), options.gyro_bias_prior_rad_s),
+          nullptr, blocks[0].b_g.data());
+      problem.AddResidualBlock(
+          VectorPriorFactor::Create(Eigen::Vector3d::Zero(), options.accel_bias_prior_m_s2),
+          nullptr, blocks[0].b_a.data());
+    }
     result.statistics.num_imu_factors = n - 1;
 
     // Visual residuals. An observation is dropped when no keyframe is at its time, or when its
     // point is behind the camera at the initial state (the residual is undefined there).
     std::map<std::string, int> dropped;
+    const auto drop = [&](const std::string& reason, TimeNs t_ns) {
+      if (t_ns < options.count_dropped_before_ns) ++dropped[reason];
+    };
     std::vector<ceres::ResidualBlockId> corner_residuals;
     int num_visual = 0;
     int num_anchored = 0;  // residuals against known map points (they fix the gauge)
@@ -292,17 +317,17 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
       for (const FeatureObservation& obs : dataset.features) {
         const int k = KeyframeAt(times, obs.t_ns);
         if (k < 0) {
-          ++dropped["feature: no keyframe at its time"];
+          drop("feature: no keyframe at its time", obs.t_ns);
           continue;
         }
         if (!landmark_parameters) {
           auto it = dataset.map.landmarks_W.find(obs.landmark_id);
           if (it == dataset.map.landmarks_W.end()) {
-            ++dropped["feature: landmark not in the map"];
+            drop("feature: landmark not in the map", obs.t_ns);
             continue;
           }
           if (initial_depth(k, it->second) <= 0.01) {
-            ++dropped["feature: behind the camera at the seed"];
+            drop("feature: behind the camera at the seed", obs.t_ns);
             continue;
           }
           if (options.features_as_bearings) {
@@ -322,7 +347,7 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
         } else {
           auto it = landmarks.find(obs.landmark_id);
           if (it == landmarks.end()) {
-            ++dropped["feature: landmark not initialized"];
+            drop("feature: landmark not initialized", obs.t_ns);
             continue;
           }
           problem.AddResidualBlock(
@@ -342,7 +367,7 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
           const int k = KeyframeAt(times, obs.t_ns);
           auto it = dataset.map.tags.find(obs.tag_id);
           if (k < 0 || it == dataset.map.tags.end()) {
-            ++dropped[k < 0 ? "tag: no keyframe at its time" : "tag: not in the map"];
+            drop(k < 0 ? "tag: no keyframe at its time" : "tag: not in the map", obs.t_ns);
             continue;
           }
           const std::array<Eigen::Vector3d, 4> corners_map = TagCornersInWorld(it->second);
@@ -354,7 +379,7 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
             const Eigen::Vector3d p_W =
                 calibrated ? Eigen::Vector3d(R_W_M_now * corners_map[c]) : corners_map[c];
             if ((T_C_W * p_W).z() <= 0.01) {
-              ++dropped["tag corner: behind the camera at the seed"];
+              drop("tag corner: behind the camera at the seed", obs.t_ns);
               continue;
             }
             ceres::ResidualBlockId id;
@@ -415,7 +440,7 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
         for (const LaserObservation& obs : dataset.laser) {
           const int k = KeyframeAt(times, obs.t_ns);
           if (k < 0) {
-            ++dropped["laser: no keyframe at its time"];
+            drop("laser: no keyframe at its time", obs.t_ns);
             continue;
           }
           ceres::CostFunction* cost = LaserSpotPlaneFactor::Create(
@@ -426,7 +451,7 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
           double r[2];
           if (!cost->Evaluate(parameters, r, nullptr)) {
             delete cost;
-            ++dropped["laser: no spot on the plane at the seed"];
+            drop("laser: no spot on the plane at the seed", obs.t_ns);
             continue;
           }
           problem.AddResidualBlock(cost, loss.get(), blocks[k].q.data(), blocks[k].p.data(),
@@ -631,6 +656,15 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
         result.imu_fit = fit.group_fit();
       else if (options.verbose)
         std::fprintf(stderr, "IMU noise fit: %s\n", fit.message().c_str());
+    }
+    if (last_round && options.marginalize_before_keyframe > 0) {
+      std::vector<KeyframeBlockPointers> keyframe_blocks;
+      keyframe_blocks.reserve(n);
+      for (auto& b : blocks)
+        keyframe_blocks.push_back({b.q.data(), b.p.data(), b.v.data(), b.b_g.data(), b.b_a.data()});
+      result.marginal_prior =
+          MarginalizeKeyframes(&problem, keyframe_blocks, options.marginalize_before_keyframe,
+                               options.num_threads, &result.marginalization_failure);
     }
     if (last_round && (options.compute_covariance || calibration_asked)) {
       const auto t_cov = std::chrono::steady_clock::now();

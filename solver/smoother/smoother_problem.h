@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -29,6 +30,7 @@
 #include "core/pose.h"
 #include "solver/laser/laser_spot_model.h"
 #include "solver/smoother/imu_preintegration.h"
+#include "solver/smoother/residuals/marginal_prior_factor.h"
 #include "solver/smoother/smoother_covariance.h"
 
 namespace mavloc {
@@ -122,6 +124,15 @@ struct SmootherProblemOptions {
   int relinearize_rounds = 1;
   double relinearize_gyro_rad_s = 2e-3;
   double relinearize_accel_m_s2 = 2e-2;
+
+  // Windows (solver/smoother/smoother_windows.h). A prior on the first keyframe's whole state that
+  // stands for the keyframes and residuals before it (it replaces the zero-mean bias priors).
+  std::optional<KeyframeMarginalPrior> first_keyframe_prior;
+  // > 0: after the last solve, keyframes 0..m-1 and their residuals are eliminated onto keyframe m
+  // (SmootherResult::marginal_prior, solver/smoother/smoother_marginalization.h).
+  int marginalize_before_keyframe = 0;
+  // Dropped measurements at or after this time are not counted (the next window counts them).
+  TimeNs count_dropped_before_ns = std::numeric_limits<TimeNs>::max();
 };
 
 struct SmootherStatistics {
@@ -130,7 +141,8 @@ struct SmootherStatistics {
   int num_visual_residuals = 0;
   int num_parameters = 0;
   int iterations = 0;
-  int solves = 0;  // 1 + relinearization rounds that ran
+  int solves = 0;   // 1 + relinearization rounds that ran
+  int windows = 1;  // 1 for a batch solve; residual counts add up over windows, overlaps included
   double preintegration_s = 0.0;
   double solve_s = 0.0;  // Ceres total time, all solves
   double linear_solver_s = 0.0;
@@ -184,7 +196,13 @@ struct SmootherResult {
   SmootherStatistics statistics;
   // With options.fit_imu_noise: the IMU preintegration and bias random-walk factors' fit.
   std::optional<ResidualGroupFit> imu_fit;
+  // With options.marginalize_before_keyframe: the prior for the next window, or why there is none.
+  std::optional<KeyframeMarginalPrior> marginal_prior;
+  std::string marginalization_failure;
 };
+
+// Adds the iterations, solves and times of `from` to `to` (several solves of one problem).
+void AddStatistics(const SmootherStatistics& from, SmootherStatistics* to);
 
 // Solves the smoother from initial keyframe states (sorted by time, inside the IMU stream; in the
 // W of options.initial_q_W_M on a board map) and, for unknown landmarks, their initial positions.

@@ -174,7 +174,7 @@ TEST(ImuPreintegration, ZeroNoiseGivesZeroCovarianceAndFiniteFlooredInformation)
   const Eigen::Matrix<double, 9, 9> L = pre.SqrtInformation(1e-6, 1e-6, 1e-6);
   EXPECT_TRUE(L.allFinite());
   EXPECT_NEAR(L(0, 0), 1e6, 1.0);
-  EXPECT_EQ(pre.steps().size(), 10u);
+  EXPECT_EQ(pre.num_steps(), 10);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "solver/smoother/residuals/imu_factor.h"
 #include "solver/smoother/residuals/laser_spot_plane_factor.h"
 #include "solver/smoother/residuals/map_point_reprojection_factor.h"
+#include "solver/smoother/residuals/marginal_prior_factor.h"
 #include "solver/smoother/residuals/pose_prior_factor.h"
 #include "solver/smoother/residuals/vector_prior_factor.h"
 #include "solver/smoother/tilt_manifold.h"
@@ -220,6 +221,46 @@ TEST_F(ResidualTest, BiasRandomWalkFactor) {
   const Eigen::VectorXd r = Evaluate(*cost, blocks);
   EXPECT_NEAR(r[3], 1e-3 / std::sqrt(9e-6 * 0.1 + 1e-10), 1e-6);
   ExpectJacobiansCorrect(*cost, blocks);
+}
+
+TEST_F(ResidualTest, MarginalPriorFactorIsLinearInTheTangentAtItsLinearizationPoint) {
+  KeyframeMarginalPrior prior;
+  prior.linearization.q_W_B = RandomRotation(rng_);
+  prior.linearization.p_W = Eigen::Vector3d(1.0, -2.0, 0.5);
+  prior.linearization.v_W = Eigen::Vector3d(0.3, 0.1, -0.2);
+  prior.linearization.biases.b_g = Eigen::Vector3d(1e-3, -2e-3, 5e-4);
+  prior.linearization.biases.b_a = Eigen::Vector3d(0.05, -0.02, 0.01);
+  for (int i = 0; i < 15; ++i) {
+    for (int j = i; j < 15; ++j) prior.sqrt_information(i, j) = rng_.Uniform(-1.0, 1.0);
+    prior.sqrt_information(i, i) = rng_.Uniform(5.0, 50.0);
+    prior.offset[i] = rng_.Uniform(-1.0, 1.0);
+  }
+  const MarginalPriorFactor cost(prior);
+  const auto blocks_at = [&](const ImuKeyframeState& x) {
+    Blocks blocks;
+    blocks.AddQuaternion(x.q_W_B, &quaternion_manifold_);
+    for (const Eigen::Vector3d& v : {x.p_W, x.v_W, x.biases.b_g, x.biases.b_a}) blocks.AddVector(v);
+    return blocks;
+  };
+  // At the linearization point: r = e, and the tangent Jacobian is R exactly.
+  Blocks at_lin = blocks_at(prior.linearization);
+  EXPECT_LT((Evaluate(cost, at_lin) - prior.offset).norm(), 1e-12);
+  ExpectJacobiansCorrect(cost, at_lin);
+  EXPECT_LT((TangentJacobian(cost, at_lin) - prior.sqrt_information).cwiseAbs().maxCoeff(), 1e-12);
+  // Away from it: r = R delta + e with delta Ceres' quaternion difference (a rotation by 2 |delta|
+  // about delta's axis, applied on the left).
+  ImuKeyframeState moved = prior.linearization;
+  const Eigen::Vector3d delta_q(0.01, -0.02, 0.015);
+  moved.q_W_B = ExpQuaternion(2.0 * delta_q) * prior.linearization.q_W_B;
+  moved.p_W += Eigen::Vector3d(0.1, 0.2, -0.1);
+  moved.biases.b_a += Eigen::Vector3d(0.01, 0.0, -0.01);
+  Vector15d delta = Vector15d::Zero();
+  delta.head<3>() = delta_q;
+  delta.segment<3>(3) = Eigen::Vector3d(0.1, 0.2, -0.1);
+  delta.segment<3>(12) = Eigen::Vector3d(0.01, 0.0, -0.01);
+  Blocks at_moved = blocks_at(moved);
+  EXPECT_LT((Evaluate(cost, at_moved) - (prior.sqrt_information * delta + prior.offset)).norm(),
+            1e-9);
 }
 
 TEST_F(ResidualTest, PosePriorFactor) {
