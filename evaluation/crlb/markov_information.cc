@@ -52,13 +52,15 @@ void AugmentedFiltering(const MarkovInformation& info, MarkovBounds* bounds) {
       bounds->filtering_nuisance[k] = P->bottomRightCorner(m, m);
     }
     if (k + 1 == n) break;
-    const Eigen::MatrixXd A = Ja.topLeftCorner(dim, dim) + info.d11[k];
+    Eigen::MatrixXd D11, D12, D22;
+    info.TransitionBlocks(k, &D11, &D12, &D22);
+    const Eigen::MatrixXd A = Ja.topLeftCorner(dim, dim) + D11;
     const auto A_inv = SpdInverse(0.5 * (A + A.transpose()));
     if (!A_inv) return;  // not expected: D11 = Phi^T Q^-1 Phi is positive definite
-    Eigen::MatrixXd R(dim, info.d12[k].cols() + m);
-    R.leftCols(info.d12[k].cols()) = info.d12[k];
+    Eigen::MatrixXd R(dim, D12.cols() + m);
+    R.leftCols(D12.cols()) = D12;
     R.rightCols(m) = Ja.topRightCorner(dim, m);
-    Eigen::MatrixXd next = joint(k + 1, info.node[k + 1] + info.d22[k], Ja.bottomRightCorner(m, m));
+    Eigen::MatrixXd next = joint(k + 1, info.node[k + 1] + D22, Ja.bottomRightCorner(m, m));
     next -= R.transpose() * *A_inv * R;
     Ja = 0.5 * (next + next.transpose());
   }
@@ -67,19 +69,30 @@ void AugmentedFiltering(const MarkovInformation& info, MarkovBounds* bounds) {
 }  // namespace
 
 void MarkovInformation::AddTransition(const Eigen::MatrixXd& Phi, const Eigen::MatrixXd& Q) {
-  // Q is positive definite for any noisy model; the scaled inverse keeps the precision where its
-  // entries span many decades (position noise ~1e-12 m^2 beside bias walks ~1e-7).
-  const std::optional<Eigen::MatrixXd> inverse = SpdInverse(Q);
-  const Eigen::MatrixXd Q_inv =
-      inverse ? *inverse
-              : Eigen::MatrixXd(Eigen::LLT<Eigen::MatrixXd>(0.5 * (Q + Q.transpose()))
-                                    .solve(Eigen::MatrixXd::Identity(Q.rows(), Q.cols())));
-  const Eigen::MatrixXd Q_inv_s = 0.5 * (Q_inv + Q_inv.transpose());
-  d11.push_back(Phi.transpose() * Q_inv_s * Phi);
-  d12.push_back(-Phi.transpose() * Q_inv_s);
-  d22.push_back(Q_inv_s);
   phi.push_back(Phi);
   q.push_back(0.5 * (Q + Q.transpose()));
+}
+
+void MarkovInformation::TransitionBlocks(int k, Eigen::MatrixXd* D11, Eigen::MatrixXd* D12,
+                                         Eigen::MatrixXd* D22) const {
+  if (k < static_cast<int>(d11.size())) {
+    *D11 = d11[k];
+    *D12 = d12[k];
+    *D22 = d22[k];
+    return;
+  }
+  // Q is positive definite for any noisy model; the scaled inverse keeps the precision where its
+  // entries span many decades (position noise ~1e-12 m^2 beside bias walks ~1e-7).
+  const Eigen::MatrixXd& Phi = phi[k];
+  const Eigen::MatrixXd& Q = q[k];
+  const std::optional<Eigen::MatrixXd> inverse = SpdInverse(Q);
+  const Eigen::MatrixXd Q_inv = inverse ? *inverse
+                                        : Eigen::MatrixXd(Eigen::LLT<Eigen::MatrixXd>(Q).solve(
+                                              Eigen::MatrixXd::Identity(Q.rows(), Q.cols())));
+  const Eigen::MatrixXd Q_inv_s = 0.5 * (Q_inv + Q_inv.transpose());
+  *D11 = Phi.transpose() * Q_inv_s * Phi;
+  *D12 = -Phi.transpose() * Q_inv_s;
+  *D22 = Q_inv_s;
 }
 
 namespace {
@@ -116,57 +129,72 @@ bool SquareRootStep(const Eigen::MatrixXd& J, const Eigen::MatrixXd& Phi, const 
 }  // namespace
 
 MarkovBounds ComputeMarkovBounds(const MarkovInformation& info) {
+  return ComputeMarkovBounds(MarkovInformation(info));
+}
+
+MarkovBounds ComputeMarkovBounds(MarkovInformation&& info) {
   MarkovBounds bounds;
   const int n = info.size();
   if (n == 0) return bounds;
-  // Forward: J_k (filtering information), S_k^-1 = (J_k + D11_k)^-1 (smoothing Schur complements)
-  // and G_k = -S_k^-1 D12_k. With the edge's Phi and Q, in the square-root form (no Q^-1, no
-  // subtraction); else in the information form.
-  std::vector<Eigen::MatrixXd> J(n), S_inv(n), G(n);
-  const bool have_phi_q =
-      static_cast<int>(info.phi.size()) == n - 1 && static_cast<int>(info.q.size()) == n - 1;
-  bool ok = true;
-  J[0] = info.node[0];
-  for (int k = 0; k < n; ++k) {
-    Eigen::MatrixXd J_pred;
-    if (k + 1 < n && have_phi_q &&
-        SquareRootStep(J[k], info.phi[k], info.q[k], &S_inv[k], &G[k], &J_pred)) {
-      J[k + 1] = info.node[k + 1] + J_pred;
-      continue;
-    }
-    const Eigen::MatrixXd S = k + 1 < n ? Eigen::MatrixXd(J[k] + info.d11[k]) : J[k];
-    auto inv = SpdInverse(S);
-    if (!inv) {
-      ok = false;
-      break;
-    }
-    S_inv[k] = *inv;
-    if (k + 1 < n) {
-      G[k] = -S_inv[k] * info.d12[k];
-      J[k + 1] = info.node[k + 1] + info.d22[k] - info.d12[k].transpose() * S_inv[k] * info.d12[k];
-    }
-  }
-  bounds.filtering.assign(n, std::nullopt);
   const int m = static_cast<int>(info.nuisance.rows());
   const bool augmented = m > 0 && static_cast<int>(info.coupling.size()) == n &&
                          static_cast<int>(info.nuisance_node.size()) == n;
-  if (augmented) {
-    AugmentedFiltering(info, &bounds);
-  } else {
-    for (int k = 0; k < n; ++k) {
-      if (J[k].size() == 0) break;
-      bounds.filtering[k] = SpdInverse(J[k]);
+  const bool nuisance = m > 0 && static_cast<int>(info.coupling.size()) == n;
+  // Forward: J_k (filtering information, kept for the current state only), S_k^-1 =
+  // (J_k + D11_k)^-1 (smoothing Schur complements) and G_k = -S_k^-1 D12_k. With the edge's Phi and
+  // Q, in the square-root form (no Q^-1, no subtraction); else in the information form. The
+  // filtering bound J_k^-1 as J_k is known (with nuisance_node: AugmentedFiltering, which needs
+  // every block, so nothing is released then).
+  std::vector<Eigen::MatrixXd> S_inv(n), G(n);
+  bounds.filtering.assign(n, std::nullopt);
+  const bool have_phi_q =
+      static_cast<int>(info.phi.size()) == n - 1 && static_cast<int>(info.q.size()) == n - 1;
+  bool ok = true;
+  Eigen::MatrixXd J = info.node[0];
+  for (int k = 0; k < n; ++k) {
+    if (!augmented) bounds.filtering[k] = SpdInverse(J);
+    Eigen::MatrixXd J_pred, J_next;
+    if (k + 1 < n && have_phi_q &&
+        SquareRootStep(J, info.phi[k], info.q[k], &S_inv[k], &G[k], &J_pred)) {
+      J_next = info.node[k + 1] + J_pred;
+    } else {
+      Eigen::MatrixXd D11, D12, D22;
+      if (k + 1 < n) info.TransitionBlocks(k, &D11, &D12, &D22);
+      const Eigen::MatrixXd S = k + 1 < n ? Eigen::MatrixXd(J + D11) : J;
+      auto inv = SpdInverse(S);
+      if (!inv) {
+        ok = false;  // the filtering bound stops here too (no J_{k+1})
+        break;
+      }
+      S_inv[k] = *inv;
+      if (k + 1 < n) {
+        G[k] = -S_inv[k] * D12;
+        J_next = info.node[k + 1] + D22 - D12.transpose() * S_inv[k] * D12;
+      }
     }
+    if (!augmented) {  // this state's blocks are used up
+      info.node[k] = Eigen::MatrixXd();
+      if (k < static_cast<int>(info.phi.size())) info.phi[k] = info.q[k] = Eigen::MatrixXd();
+    }
+    J = std::move(J_next);
   }
+  if (augmented) AugmentedFiltering(info, &bounds);
   if (!ok) return bounds;
-  // Backward selected inversion.
-  bounds.smoothing.assign(n, Eigen::MatrixXd());
-  bounds.smoothing[n - 1] = S_inv[n - 1];
-  for (int k = n - 2; k >= 0; --k) {
-    const Eigen::MatrixXd C = S_inv[k] + G[k] * bounds.smoothing[k + 1] * G[k].transpose();
-    bounds.smoothing[k] = 0.5 * (C + C.transpose());
+  // Backward selected inversion. Without nuisance parameters (which need S_k^-1 and G_k again)
+  // each Sigma_k takes the storage of S_k^-1 and G_k is released as soon as it is used.
+  if (nuisance) {
+    bounds.smoothing = S_inv;
+  } else {
+    bounds.smoothing = std::move(S_inv);
+    S_inv.clear();
   }
-  if (m > 0 && static_cast<int>(info.coupling.size()) == n) {
+  for (int k = n - 2; k >= 0; --k) {
+    const Eigen::MatrixXd C =
+        bounds.smoothing[k] + G[k] * bounds.smoothing[k + 1] * G[k].transpose();
+    bounds.smoothing[k] = 0.5 * (C + C.transpose());
+    if (!nuisance) G[k] = Eigen::MatrixXd();
+  }
+  if (nuisance) {
     // Y = A^-1 B: forward z_k = B_k - D12_{k-1}^T S_{k-1}^-1 z_{k-1}, backward
     // Y_{n-1} = S_{n-1}^-1 z_{n-1}, Y_k = S_k^-1 z_k + G_k Y_{k+1}.
     std::vector<Eigen::MatrixXd> Y(n);
@@ -200,10 +228,12 @@ Eigen::MatrixXd DenseInformation(const MarkovInformation& info) {
     H.block(a, a, da, da) += info.node[k];
     if (k + 1 < n) {
       const int b = offset[k + 1], db = static_cast<int>(info.node[k + 1].rows());
-      H.block(a, a, da, da) += info.d11[k];
-      H.block(a, b, da, db) += info.d12[k];
-      H.block(b, a, db, da) += info.d12[k].transpose();
-      H.block(b, b, db, db) += info.d22[k];
+      Eigen::MatrixXd D11, D12, D22;
+      info.TransitionBlocks(k, &D11, &D12, &D22);
+      H.block(a, a, da, da) += D11;
+      H.block(a, b, da, db) += D12;
+      H.block(b, a, db, da) += D12.transpose();
+      H.block(b, b, db, db) += D22;
     }
   }
   return H;

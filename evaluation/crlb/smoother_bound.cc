@@ -343,19 +343,24 @@ SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset, const EstimatorOptions&
     info.AddTransition(Phi, Q);
   }
 
-  const MarkovBounds bounds = ComputeMarkovBounds(info);
+  MarkovBounds bounds = ComputeMarkovBounds(std::move(info));
   if (!bounds.smoothing_ok || (laser && bounds.nuisance_covariance.size() == 0)) {
     out.reason = "the information matrix is singular (unobservable states)";
     return out;
   }
   if (board) out.tilt_covariance = Eigen::Matrix2d(bounds.nuisance_covariance);
   if (laser) out.plane_covariance = Eigen::Matrix3d(bounds.nuisance_covariance);
+  out.keyframes.reserve(n);
   for (int k = 0; k < n; ++k) {
     CrlbKeyframe kf;
     kf.t_ns = times[k];
     kf.T_W_B = truth[k].T_W_B;
     kf.smoothing = bounds.smoothing[k];
     if (bounds.filtering[k]) kf.filtering = Matrix15d(*bounds.filtering[k]);
+    if (!laser) {  // the laser quantities below read this keyframe's blocks again
+      bounds.smoothing[k] = Eigen::MatrixXd();
+      bounds.filtering[k].reset();
+    }
     if (board) {
       // The reported error is dx_k + K_k d (the canonical re-expression, see the header):
       // Cov = Sigma_xx + K Sigma_dx + Sigma_xd K^T + K Sigma_dd K^T.

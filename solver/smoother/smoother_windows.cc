@@ -128,8 +128,11 @@ SmootherResult SolveSmootherInWindows(const Dataset& dataset,
         result.pose_covariances.push_back(
             k < static_cast<int>(w.pose_covariances.size()) ? w.pose_covariances[k] : std::nullopt);
     }
-    // The overlap starts the next window from this one's solution.
+    // The overlap starts the next window from this one's solution, and the keyframes after it
+    // from its last biases (the seeds' poses carry none): their preintegration is then linearized
+    // near the solution and the relinearization round is rarely needed.
     for (int k = keep; k <= b - a; ++k) seeds[a + k] = w.keyframes[k];
+    for (int k = b + 1; k < n; ++k) seeds[k].state.biases = w.keyframes.back().state.biases;
     result.message = w.message;
     prior = w.marginal_prior;
     a = last ? n : next;

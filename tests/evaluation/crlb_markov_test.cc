@@ -203,9 +203,8 @@ TEST(CrlbMarkov, NuisanceParametersAreMarginalisedExactly) {
   for (int k = 0; k < c.n; ++k) {
     MarkovInformation head;
     head.node.assign(info.node.begin(), info.node.begin() + k + 1);
-    head.d11.assign(info.d11.begin(), info.d11.begin() + k);
-    head.d12.assign(info.d12.begin(), info.d12.begin() + k);
-    head.d22.assign(info.d22.begin(), info.d22.begin() + k);
+    head.phi.assign(info.phi.begin(), info.phi.begin() + k);
+    head.q.assign(info.q.begin(), info.q.begin() + k);
     const int Nk = 3 * (k + 1);
     Eigen::MatrixXd Hk = Eigen::MatrixXd::Zero(Nk + m, Nk + m);
     Hk.topLeftCorner(Nk, Nk) = DenseInformation(head);

@@ -57,6 +57,9 @@ TEST(SmootherWindows, EqualTheBatchFarInsideTheBoundOnANoisyFigureEight) {
   }
   const double n = static_cast<double>(batch.result.keyframes.size());
   const double rms_diff = std::sqrt(sum_sq_diff / n), rms_error = std::sqrt(sum_sq_error / n);
+  std::printf("batch: %d solves, %d iterations; windows: %d solves, %d iterations\n",
+              batch.result.statistics.solves, batch.result.statistics.iterations,
+              windowed.result.statistics.solves, windowed.result.statistics.iterations);
   std::printf(
       "batch position RMSE %.4f mm; windowed - batch RMS %.4f mm, last window max %.2e mm\n",
       1e3 * rms_error, 1e3 * rms_diff, 1e3 * max_diff_last);
