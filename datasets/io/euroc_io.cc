@@ -170,51 +170,56 @@ CameraSensor ReadCamera(const fs::path& folder) {
   return camera;
 }
 
-// Fields k, k+1, k+2 of a row, each within +-max_abs.
-Eigen::Vector3d Vector3In(const TextTable& table, const TextRow& row, size_t k, double max_abs,
-                          const char* unit) {
-  return {table.NumberIn(row, k, -max_abs, max_abs, unit),
-          table.NumberIn(row, k + 1, -max_abs, max_abs, unit),
-          table.NumberIn(row, k + 2, -max_abs, max_abs, unit)};
-}
-
+// Fields k and k+1 of a row, each within +-max_abs.
 Eigen::Vector2d Vector2In(const TextTable& table, const TextRow& row, size_t k, double max_abs,
                           const char* unit) {
   return {table.NumberIn(row, k, -max_abs, max_abs, unit),
           table.NumberIn(row, k + 1, -max_abs, max_abs, unit)};
 }
 
+// Streamed row by row, as the features (an hour at 200 Hz is 720,000 rows of 17 fields).
 std::vector<GroundTruthState> ReadGroundTruthCsv(const std::string& path) {
-  const TextTable table = ReadTextTable(path, Separator::kComma);
-  std::vector<long> lines;
-  const std::vector<TimeNs> t = Stamps(table, &lines);
-  table.RequireIncreasing(t, lines);
+  TextRowReader reader(path, Separator::kComma);
+  TextTable columns;  // the header and path, for the messages
+  columns.path = path;
   std::vector<GroundTruthState> states;
-  states.reserve(table.rows.size());
-  for (size_t i = 0; i < table.rows.size(); ++i) {
-    const TextRow& row = table.rows[i];
-    table.RequireFields(row, 8);
+  while (const TextRowView* row = reader.Next()) {
+    if (states.empty()) columns.header = reader.header();
+    const long line = row->line;
+    const TimeNs t_ns = columns.TimestampNsText(row->fields[0], line, 0);
+    if (!states.empty()) columns.RequireAfter(states.back().t_ns, t_ns, line);
+    columns.RequireFieldCount(row->fields.size(), line, 8);
+    const auto number = [&](size_t k, double max_abs, const char* unit) {
+      return columns.NumberInText(row->fields[k], line, k, -max_abs, max_abs, unit);
+    };
+    const auto vector3 = [&](size_t k, double max_abs, const char* unit) {
+      return Eigen::Vector3d(number(k, max_abs, unit), number(k + 1, max_abs, unit),
+                             number(k + 2, max_abs, unit));
+    };
+    const auto plain = [&](size_t k) {
+      return RequireDoubleText(row->fields[k], path, line, columns.FieldName(k));
+    };
     GroundTruthState s;
-    s.t_ns = t[i];
-    s.T_W_B.p = Vector3In(table, row, 1, limits::kMaxPosition_m, "m");
-    const Eigen::Quaterniond q = QuaternionFromWxyz(table.Number(row, 4), table.Number(row, 5),
-                                                    table.Number(row, 6), table.Number(row, 7));
+    s.t_ns = t_ns;
+    s.T_W_B.p = vector3(1, limits::kMaxPosition_m, "m");
+    const Eigen::Quaterniond q = QuaternionFromWxyz(plain(4), plain(5), plain(6), plain(7));
     if (!(std::abs(q.norm() - 1.0) <= limits::kUnitNormTolerance))
-      throw InputError(path, row.line, table.FieldName(4),
+      throw InputError(path, line, columns.FieldName(4),
                        fmt::format("quaternion is not unit length (|q| = {:.6g}; accepted and "
                                    "normalised within 1 +- {})",
                                    q.norm(), limits::kUnitNormTolerance));
     s.T_W_B.q = q.normalized();
     // Pose-only rows (8 fields) leave v_W and the biases zero; IMU estimators that need the
     // initial velocity detect that (imu-dead-reckoning says so).
-    if (row.fields.size() > 8) {
-      table.RequireFields(row, 17);
-      s.v_W = Vector3In(table, row, 8, limits::kMaxSpeed_m_s, "m/s");
-      s.b_g = Vector3In(table, row, 11, limits::kMaxGyroBias_rad_s, "rad/s");
-      s.b_a = Vector3In(table, row, 14, limits::kMaxAccelBias_m_s2, "m/s^2");
+    if (row->fields.size() > 8) {
+      columns.RequireFieldCount(row->fields.size(), line, 17);
+      s.v_W = vector3(8, limits::kMaxSpeed_m_s, "m/s");
+      s.b_g = vector3(11, limits::kMaxGyroBias_rad_s, "rad/s");
+      s.b_a = vector3(14, limits::kMaxAccelBias_m_s2, "m/s^2");
     }
     states.push_back(s);
   }
+  if (states.empty()) throw InputError(path, 0, "", "file has no data rows");
   return states;
 }
 
@@ -229,17 +234,28 @@ void RequireNonDecreasing(const TextTable& table, const std::vector<TimeNs>& t,
   }
 }
 
+// Streamed row by row (an hour of features at 20 Hz is millions of rows: held as text they took
+// about ten times the memory of the observations).
 std::vector<FeatureObservation> ReadFeatures(const std::string& path,
                                              std::vector<long>* lines_out) {
-  const TextTable table = ReadTextTable(path, Separator::kComma, true);
+  TextRowReader reader(path, Separator::kComma);
+  TextTable columns;  // the header and path, for the messages
+  columns.path = path;
   std::vector<long>& lines = *lines_out;
-  const auto t = Stamps(table, &lines);
-  RequireNonDecreasing(table, t, lines);
   std::vector<FeatureObservation> out;
-  for (size_t i = 0; i < table.rows.size(); ++i) {
-    table.RequireFields(table.rows[i], 4);
-    out.push_back({t[i], table.Id(table.rows[i], 1),
-                   Vector2In(table, table.rows[i], 2, limits::kMaxNormalizedCoordinate, "")});
+  const double max_xy = limits::kMaxNormalizedCoordinate;
+  while (const TextRowView* row = reader.Next()) {
+    if (out.empty()) columns.header = reader.header();
+    const TimeNs t_ns = columns.TimestampNsText(row->fields[0], row->line, 0);
+    if (!out.empty() && t_ns < out.back().t_ns)
+      throw InputError(path, row->line, columns.FieldName(0),
+                       "timestamp " + std::to_string(t_ns) + " is earlier than the previous row's");
+    columns.RequireFieldCount(row->fields.size(), row->line, 4);
+    out.push_back({t_ns,
+                   columns.IdText(row->fields[1], row->line, 1),
+                   {columns.NumberInText(row->fields[2], row->line, 2, -max_xy, max_xy, ""),
+                    columns.NumberInText(row->fields[3], row->line, 3, -max_xy, max_xy, "")}});
+    lines.push_back(row->line);
   }
   return out;
 }

@@ -71,14 +71,17 @@ double TextTable::NumberInText(std::string_view text, long line, size_t k, doubl
 
 int TextTable::Id(const TextRow& row, size_t k) const {
   RequireFields(row, k + 1);
-  const std::string& text = row.fields[k];
+  return IdText(row.fields[k], row.line, k);
+}
+
+int TextTable::IdText(std::string_view text, long line, size_t k) const {
   const ParsedNumber<long long> parsed = ParseIntegerText(text);
   if (parsed.status != NumberTextStatus::kOk && parsed.status != NumberTextStatus::kOverflow)
-    throw InputError(path, row.line, FieldName(k),
-                     DescribeNumberText(text, parsed, "an integer id"));
+    throw InputError(path, line, FieldName(k), DescribeNumberText(text, parsed, "an integer id"));
   if (!parsed.ok() || parsed.value < 0 || parsed.value > limits::kMaxId)
-    throw InputError(path, row.line, FieldName(k),
-                     "id " + text + " is outside [0, " + std::to_string(limits::kMaxId) + "]");
+    throw InputError(
+        path, line, FieldName(k),
+        "id " + std::string(text) + " is outside [0, " + std::to_string(limits::kMaxId) + "]");
   return static_cast<int>(parsed.value);
 }
 

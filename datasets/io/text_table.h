@@ -59,6 +59,7 @@ struct TextTable {
   double NumberInText(std::string_view text, long line, size_t k, double lo, double hi,
                       const std::string& unit) const;
   TimeNs TimestampNsText(std::string_view text, long line, size_t k) const;
+  int IdText(std::string_view text, long line, size_t k) const;
   void RequireFieldCount(size_t found, long line, size_t count) const;
   // Throws unless t_ns (field 0 of the row at `line`) is after previous_ns, the stamp of the row
   // before: "duplicate timestamp ..." or "timestamp ... is earlier than the previous row's".

@@ -5,7 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
-#include <set>
+#include <algorithm>
 #include <unordered_map>
 
 namespace mavloc {
@@ -14,35 +14,38 @@ namespace {
 
 constexpr int kStateSize = 15;  // tangent of (q, p, v, b_g, b_a)
 
-// The residual blocks that touch keyframes 0..m-1, in the order of first touch. Empty with *why
-// when one of them also touches a free block outside keyframes 0..m.
+// The residual blocks that touch keyframes 0..m-1, in the problem's order. Empty with *why when one
+// of them also touches a free block outside keyframes 0..m. One pass over every residual block
+// (asking Ceres for the residuals of each parameter block would need its per-block residual sets,
+// which cost more to keep up while the problem is built than this pass).
 std::vector<ceres::ResidualBlockId> EliminatedResiduals(
     ceres::Problem* problem, const std::vector<KeyframeBlockPointers>& keyframes, int m,
     std::string* why) {
-  std::set<const double*> kept;
+  std::unordered_map<const double*, int> keyframe_of;
   for (int k = 0; k <= m; ++k)
-    for (double* block : keyframes[k]) kept.insert(block);
-  std::vector<ceres::ResidualBlockId> ids;
-  std::set<ceres::ResidualBlockId> seen;
-  std::vector<ceres::ResidualBlockId> touching;
+    for (double* block : keyframes[k]) keyframe_of[block] = k;
+  std::vector<ceres::ResidualBlockId> all, ids;
+  problem->GetResidualBlocks(&all);
   std::vector<double*> blocks;
-  for (int k = 0; k < m; ++k) {
-    for (double* block : keyframes[k]) {
-      problem->GetResidualBlocksForParameterBlock(block, &touching);
-      for (const ceres::ResidualBlockId id : touching) {
-        if (!seen.insert(id).second) continue;
-        problem->GetParameterBlocksForResidualBlock(id, &blocks);
-        for (double* other : blocks) {
-          if (kept.count(other) || problem->IsParameterBlockConstant(other)) continue;
-          *why =
-              "a residual of keyframe " + std::to_string(k) +
-              " also touches an estimated block that is not a keyframe state (landmark, plane or "
-              "calibration), which a keyframe prior cannot carry to the next window";
-          return {};
-        }
-        ids.push_back(id);
-      }
+  for (const ceres::ResidualBlockId id : all) {
+    problem->GetParameterBlocksForResidualBlock(id, &blocks);
+    int first = m;
+    bool foreign = false;
+    for (double* block : blocks) {
+      auto it = keyframe_of.find(block);
+      if (it != keyframe_of.end())
+        first = std::min(first, it->second);
+      else if (!problem->IsParameterBlockConstant(block))
+        foreign = true;
     }
+    if (first == m) continue;  // touches no eliminated keyframe
+    if (foreign) {
+      *why = "a residual of keyframe " + std::to_string(first) +
+             " also touches an estimated block that is not a keyframe state (landmark, plane or "
+             "calibration), which a keyframe prior cannot carry to the next window";
+      return {};
+    }
+    ids.push_back(id);
   }
   return ids;
 }

@@ -256,9 +256,6 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    // The marginalization asks for the residuals of each eliminated block: without the per-block
-    // residual sets Ceres scans every residual block for each question.
-    problem_options.enable_fast_removal = options.marginalize_before_keyframe > 0;
     ceres::Problem problem(problem_options);
     for (auto& b : blocks) {
       problem.AddParameterBlock(b.q.data(), 4, &quaternion_manifold);

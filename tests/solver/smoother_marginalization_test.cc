@@ -63,7 +63,6 @@ TEST(SmootherMarginalization, PriorIsTheSchurComplementOfTheEliminatedResiduals)
   ceres::EigenQuaternionManifold quaternion;
   ceres::Problem::Options problem_options;
   problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  problem_options.enable_fast_removal = true;
   ceres::Problem problem(problem_options);
   for (auto& s : storage) {
     const Eigen::Quaterniond q = ExpQuaternion(rng.Gaussian3(1.0));
