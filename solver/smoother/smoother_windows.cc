@@ -10,13 +10,17 @@ namespace {
 
 constexpr TimeNs kVisualToleranceNs = 1'000'000;  // the smoother attaches within 1 ms
 
+// The observations within the tolerance of [t0, t1] of a time-ordered stream (the readers and
+// the simulators give them in time order): two binary searches, not a pass over the whole log
+// per window.
 template <typename Observation>
 std::vector<Observation> Within(const std::vector<Observation>& all, TimeNs t0_ns, TimeNs t1_ns) {
-  std::vector<Observation> out;
-  for (const Observation& o : all)
-    if (o.t_ns >= t0_ns - kVisualToleranceNs && o.t_ns <= t1_ns + kVisualToleranceNs)
-      out.push_back(o);
-  return out;
+  const auto first = std::partition_point(all.begin(), all.end(), [&](const Observation& o) {
+    return o.t_ns < t0_ns - kVisualToleranceNs;
+  });
+  const auto last = std::partition_point(
+      first, all.end(), [&](const Observation& o) { return o.t_ns <= t1_ns + kVisualToleranceNs; });
+  return std::vector<Observation>(first, last);
 }
 
 // The last keyframe index b >= a with t_b - t_a <= window; the first index c > a with
