@@ -14,6 +14,7 @@
 #include "cli/option_checks.h"
 #include "cli/output_folder.h"
 #include "core/errors.h"
+#include "core/heap_release.h"
 #include "core/progress.h"
 #include "datasets/io/euroc_io.h"
 #include "datasets/io/log_reader.h"
@@ -202,6 +203,7 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       evaluation_options.reference = reference ? &*reference : nullptr;
       EstimatorEvaluation evaluation =
           RunAndEvaluate(names[i], options, dataset, evaluation_options);
+      ReleaseFreeHeapPages();  // what the estimator freed, before the next stage allocates
       if (reference_is_estimator && i == 0) {
         if (!evaluation.ran)
           throw InputError("reference estimator '" + names[0] +

@@ -61,6 +61,11 @@ void DistortNormalized(DistortionModel model, const double* k, const T& x, const
   }
 }
 
+// The distortion and its 2 x 2 Jacobian d(x_d, y_d) / d(x, y), differentiated by hand from the
+// formulas above (the values are DistortNormalized's, to the bit).
+void DistortNormalizedWithJacobian(DistortionModel model, const double* k, double x, double y,
+                                   double* x_d, double* y_d, Eigen::Matrix2d* J_xd_xy);
+
 class CameraModel {
  public:
   CameraModel() = default;
@@ -98,6 +103,11 @@ class CameraModel {
   std::optional<Eigen::Vector3d> Unproject(const Eigen::Vector2d& uv) const;
 
   bool IsInside(const Eigen::Vector2d& uv, double border_px = 0.0) const;
+
+  // Pixel projection of a point in C (no visibility check, z != 0) and its Jacobian
+  // d uv / d p_C, analytic; the same pixel as ProjectT<double>, to the bit.
+  Eigen::Vector2d ProjectWithJacobian(const Eigen::Vector3d& p_C,
+                                      Eigen::Matrix<double, 2, 3, Eigen::RowMajor>* J_uv_pC) const;
 
   // Templated pixel projection of a point in C (no visibility check), for automatic
   // differentiation.

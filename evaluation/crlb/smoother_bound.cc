@@ -5,11 +5,13 @@
 #include <cmath>
 
 #include "core/board_frame.h"
+#include "core/heap_release.h"
 #include "core/imu.h"
 #include "core/rotation.h"
 #include "core/tag_geometry.h"
 #include "evaluation/crlb/laser_bound.h"
 #include "evaluation/crlb/markov_information.h"
+#include "evaluation/crlb/pixel_jacobian.h"
 #include "solver/estimators/smoother_estimator.h"
 #include "solver/smoother/smoother_initialization.h"
 
@@ -91,33 +93,6 @@ void ImuTransition(const Dataset& dataset, const ImuNoise& noise, TimeNs t0, Tim
     a = b;
     if (held + 1 < samples.size() && samples[held + 1].t_ns <= a) ++held;
   }
-}
-
-// Whitened Jacobian (2 x 8, columns dp, dtheta, then the board tilt d1, d2: the point moved to
-// Exp((d1, d2, 0)) p_W, TiltManifold's left perturbation) of the pixel of map point p_W seen from
-// T_W_B * T_B_C, by central differences of CameraModel::Project (the tilt columns only
-// with_tilt, else zero). False when the point is not in front of the camera.
-bool PixelJacobian(const CameraSensor& camera, const Pose& T_W_B, const Eigen::Vector3d& p_W,
-                   double sigma_px, bool with_tilt, Eigen::Matrix<double, 2, 8>* J) {
-  using Vector8d = Eigen::Matrix<double, 8, 1>;
-  const auto project = [&](const Vector8d& d) -> std::optional<Eigen::Vector2d> {
-    const Pose T(T_W_B.q * ExpQuaternion(d.segment<3>(3)), T_W_B.p + d.head<3>());
-    const Eigen::Vector3d p_tilted_W = ExpSO3(Eigen::Vector3d(d(6), d(7), 0.0)) * p_W;
-    const Eigen::Vector3d p_C = (T * camera.T_B_C).Inverse() * p_tilted_W;
-    if (p_C.z() <= 0.01) return std::nullopt;
-    return camera.model.Project(p_C, 0.01);
-  };
-  if (!project(Vector8d::Zero())) return false;
-  const double step = 1e-6;
-  J->setZero();
-  for (int c = 0; c < (with_tilt ? 8 : 6); ++c) {
-    const Vector8d d = step * Vector8d::Unit(c);
-    const auto plus = project(d);
-    const auto minus = project(-d);
-    if (!plus || !minus) return false;
-    J->col(c) = (*plus - *minus) / (2.0 * step * sigma_px);
-  }
-  return true;
 }
 
 // The true gravity direction in the board frame M, from the truth quantities board_roll and
@@ -385,7 +360,9 @@ SmootherCrlb ComputeSmootherCrlb(const Dataset& dataset, const EstimatorOptions&
       kf.laser = q;
     }
     out.keyframes.push_back(kf);
+    if (!laser && (k + 1) % 8192 == 0) ReleaseFreeHeapPages();  // the blocks converted so far
   }
+  ReleaseFreeHeapPages();
   out.ok = true;
   out.compute_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

@@ -12,9 +12,9 @@
 //   (zero-order hold, as the samples are simulated): x_{k+1} = Phi x_k + w, w ~ N(0, Q), whose
 //   information enters as Tichavsky et al.'s D11, D12, D22 (markov_information.h). The bias walk
 //   inside the interval is part of Q (the smoother models it as a separate factor).
-// - Vision: central differences of CameraModel::Project (the simulator's projection) of every map
-//   point observed at a keyframe (tag corners of tags0/tags1, features0 landmarks in pixels),
-//   whitened by the pixel noise sigma.
+// - Vision: the analytic pixel Jacobian (pixel_jacobian.h: CameraModel::ProjectWithJacobian, the
+//   simulator's projection differentiated by hand) of every map point observed at a keyframe (tag
+//   corners of tags0/tags1, features0 landmarks in pixels), whitened by the pixel noise sigma.
 // - Priors: the smoother's zero-mean prior on the first biases (the turn-on bias sigma the
 //   dataset states, SmootherEstimator::ProblemOptionsFor); no pose prior: known map points fix
 //   the gauge, as in the smoother.

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <ceres/jet.h>
+
 #include "core/random.h"
+#include "tests/test_support.h"
 
 namespace mavloc {
 namespace {
@@ -72,6 +75,62 @@ TEST(CameraModel, TemplatedProjectionMatches) {
   Eigen::Vector2d uv;
   cam.ProjectT(p_C.data(), uv.data());
   EXPECT_TRUE(uv.isApprox(*cam.Project(p_C), 1e-14));
+}
+
+// The analytic distortion Jacobian against central differences and against Ceres' forward-mode
+// differentiation of the templated formula, on random points across the image (and at the
+// centre, where the equidistant model switches to its r -> 0 branch); values to the bit.
+TEST(CameraModel, DistortionJacobianMatchesDifferentiation) {
+  Rng rng(17);
+  using Jet2 = ceres::Jet<double, 2>;
+  for (const CameraModel& cam :
+       {EurocCam0(), Equidistant(), CameraModel(640, 480, Eigen::Vector4d(400, 400, 320, 240))}) {
+    const double* k = cam.distortion().data();
+    for (int trial = 0; trial < 200; ++trial) {
+      const Eigen::Vector2d xy =
+          trial == 0 ? Eigen::Vector2d::Zero()
+                     : Eigen::Vector2d(rng.Uniform(-0.8, 0.8), rng.Uniform(-0.6, 0.6));
+      double xd = 0, yd = 0;
+      Eigen::Matrix2d J;
+      DistortNormalizedWithJacobian(cam.distortion_model(), k, xy.x(), xy.y(), &xd, &yd, &J);
+      const Eigen::Vector2d expected = cam.Distort(xy);
+      EXPECT_EQ(xd, expected.x());
+      EXPECT_EQ(yd, expected.y());
+      Jet2 jx(xy.x(), 0), jy(xy.y(), 1), jxd, jyd;
+      DistortNormalized(cam.distortion_model(), k, jx, jy, &jxd, &jyd);
+      Eigen::Matrix2d J_jet;
+      J_jet << jxd.v.transpose(), jyd.v.transpose();
+      EXPECT_LT((J - J_jet).cwiseAbs().maxCoeff(), 1e-12) << "trial " << trial;
+      const Eigen::MatrixXd J_num = testing::CentralDifferenceJacobian(
+          [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return cam.Distort(v); }, xy, 1e-6);
+      EXPECT_LT((J - J_num).cwiseAbs().maxCoeff(), 1e-8) << "trial " << trial;
+    }
+  }
+}
+
+TEST(CameraModel, ProjectionJacobianMatchesCentralDifferences) {
+  Rng rng(18);
+  for (const CameraModel& cam : {EurocCam0(), Equidistant()}) {
+    for (int trial = 0; trial < 100; ++trial) {
+      const double z = rng.Uniform(0.3, 20.0);
+      const Eigen::Vector3d p_C(rng.Uniform(-0.7, 0.7) * z, rng.Uniform(-0.5, 0.5) * z, z);
+      Eigen::Matrix<double, 2, 3, Eigen::RowMajor> J;
+      const Eigen::Vector2d uv = cam.ProjectWithJacobian(p_C, &J);
+      Eigen::Vector2d uv_t;
+      cam.ProjectT(p_C.data(), uv_t.data());
+      EXPECT_EQ(uv.x(), uv_t.x());
+      EXPECT_EQ(uv.y(), uv_t.y());
+      const Eigen::MatrixXd J_num = testing::CentralDifferenceJacobian(
+          [&](const Eigen::VectorXd& p) -> Eigen::VectorXd {
+            Eigen::Vector2d out;
+            cam.ProjectT(p.data(), out.data());
+            return out;
+          },
+          p_C, 1e-6 * z);
+      EXPECT_LT((J - J_num).cwiseAbs().maxCoeff(), 1e-5 * J.cwiseAbs().maxCoeff())
+          << "trial " << trial;
+    }
+  }
 }
 
 TEST(CameraModel, ParsesKalibrNames) {

@@ -37,7 +37,8 @@ bool CalibratedReprojectionFactor::Evaluate(double const* const* parameters, dou
   const Eigen::Vector3d p_C = R_B_C.transpose() * c;
   if (!(p_C.z() > 1e-9)) return false;
 
-  const RowMajor2x3 J_uv = WhitenedProjection(camera_, p_C, uv_px_, inv_sigma_, residuals);
+  RowMajor2x3 J_uv;
+  WhitenedProjection(camera_, p_C, uv_px_, inv_sigma_, residuals, jacobians ? &J_uv : nullptr);
   if (!jacobians) return true;
   const RowMajor2x3 J_pB = J_uv * R_B_C.transpose();  // d r / d p_B
   const RowMajor2x3 J_pW = J_pB * R_t.transpose();    // d r / d p_W (and -d r / d p_t)

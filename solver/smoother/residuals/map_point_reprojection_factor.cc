@@ -15,7 +15,8 @@ bool MapPointReprojectionFactor::Evaluate(double const* const* parameters, doubl
   const Eigen::Vector3d p_C = R_B_C_.transpose() * (R_W_B.transpose() * lever_W - p_B_C_);
   if (!(p_C.z() > 1e-9)) return false;
 
-  const RowMajor2x3 J_uv = WhitenedProjection(camera_, p_C, uv_px_, inv_sigma_, residuals);
+  RowMajor2x3 J_uv;
+  WhitenedProjection(camera_, p_C, uv_px_, inv_sigma_, residuals, jacobians ? &J_uv : nullptr);
   if (!jacobians) return true;
   const RowMajor2x3 J_pW = J_uv * R_B_C_.transpose() * R_W_B.transpose();  // d r / d p_W
   if (jacobians[0]) {
