@@ -2,9 +2,8 @@
 
 #include <ceres/crs_matrix.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
 #include <algorithm>
 #include <unordered_map>
 
@@ -50,6 +49,63 @@ std::vector<ceres::ResidualBlockId> EliminatedResiduals(
   return ids;
 }
 
+// H = J^T J and g = J^T r of keyframes 0..m as the blocks of a chain (IMU factors couple
+// consecutive keyframes, every other eliminated residual one keyframe): diag[k] = H_kk,
+// upper[k] = H_k,k+1, g[k]; accumulated row by row from J's nonzeros (tangent columns, 15 per
+// keyframe in time order). False, with *why, when a row couples keyframes that are not consecutive.
+bool ChainBlocks(const ceres::CRSMatrix& J, const std::vector<double>& r, int m,
+                 std::vector<Matrix15d>* diag, std::vector<Matrix15d>* upper,
+                 std::vector<Vector15d>* g, std::string* why) {
+  diag->assign(m + 1, Matrix15d::Zero());
+  upper->assign(m, Matrix15d::Zero());
+  g->assign(m + 1, Vector15d::Zero());
+  for (int row = 0; row < J.num_rows; ++row) {
+    for (int a = J.rows[row]; a < J.rows[row + 1]; ++a) {
+      const int ka = J.cols[a] / kStateSize, ia = J.cols[a] % kStateSize;
+      (*g)[ka](ia) += J.values[a] * r[row];
+      for (int b = J.rows[row]; b < J.rows[row + 1]; ++b) {
+        const int kb = J.cols[b] / kStateSize, ib = J.cols[b] % kStateSize;
+        if (kb == ka) {
+          (*diag)[ka](ia, ib) += J.values[a] * J.values[b];
+        } else if (kb == ka + 1) {
+          (*upper)[ka](ia, ib) += J.values[a] * J.values[b];
+        } else if (kb != ka - 1) {
+          *why = "a residual couples keyframes " + std::to_string(std::min(ka, kb)) + " and " +
+                 std::to_string(std::max(ka, kb)) + ", which are not consecutive";
+          return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
+// The Schur complement onto keyframe m by block elimination along the chain, in time order (the
+// block Cholesky factorization of H_oo, which has no fill outside the band):
+//   S_0 = H_00, y_0 = g_0;  S_k+1 = H_k+1,k+1 - H_k,k+1^T S_k^-1 H_k,k+1,
+//   y_k+1 = g_k+1 - H_k,k+1^T S_k^-1 y_k;  H_m = S_m, g_m = y_m.
+bool SchurComplementOfChain(const ceres::CRSMatrix& J, const std::vector<double>& r, int m,
+                            Matrix15d* H_m, Vector15d* g_m, std::string* why) {
+  std::vector<Matrix15d> diag, upper;
+  std::vector<Vector15d> g;
+  if (!ChainBlocks(J, r, m, &diag, &upper, &g, why)) return false;
+  Matrix15d S = diag[0];
+  Vector15d y = g[0];
+  for (int k = 0; k < m; ++k) {
+    const Eigen::LLT<Matrix15d> llt(S);
+    if (llt.info() != Eigen::Success) {
+      *why = "the eliminated keyframes are not determined by their residuals";
+      return false;
+    }
+    const Matrix15d A = llt.solve(upper[k]);  // S_k^-1 H_k,k+1
+    S = diag[k + 1] - upper[k].transpose() * A;
+    y = g[k + 1] - A.transpose() * y;
+  }
+  *H_m = S;
+  *g_m = y;
+  return true;
+}
+
 }  // namespace
 
 std::optional<KeyframeMarginalPrior> MarginalizeKeyframes(
@@ -88,26 +144,9 @@ std::optional<KeyframeMarginalPrior> MarginalizeKeyframes(
     *why = "unexpected tangent size of a keyframe state";
     return std::nullopt;
   }
-  const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>> J(
-      crs.num_rows, crs.num_cols, static_cast<int>(crs.values.size()), crs.rows.data(),
-      crs.cols.data(), crs.values.data());
-  const Eigen::Map<const Eigen::VectorXd> r(residuals.data(), static_cast<int>(residuals.size()));
-  const Eigen::SparseMatrix<double> H = (J.transpose() * J).pruned();
-  const Eigen::VectorXd g = J.transpose() * r;
-  const int o = kStateSize * m;  // the eliminated columns come first (time order)
-  const Eigen::SparseMatrix<double> H_oo = H.topLeftCorner(o, o);
-  const Eigen::MatrixXd H_om = Eigen::MatrixXd(H.block(0, o, o, kStateSize));
-  // Time order, no permutation: the factor of a keyframe chain has no fill outside its band.
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>> llt(
-      H_oo);
-  if (llt.info() != Eigen::Success) {
-    *why = "the eliminated keyframes are not determined by their residuals";
-    return std::nullopt;
-  }
-  const Eigen::MatrixXd X = llt.solve(H_om);  // H_oo^-1 H_om
-  const Matrix15d H_m =
-      Matrix15d(Eigen::MatrixXd(H.block(o, o, kStateSize, kStateSize))) - H_om.transpose() * X;
-  const Vector15d g_m = g.tail<kStateSize>() - X.transpose() * g.head(o);
+  Matrix15d H_m;
+  Vector15d g_m;
+  if (!SchurComplementOfChain(crs, residuals, m, &H_m, &g_m, why)) return std::nullopt;
   // R^T R = H_m and R^T e = g_m from the eigen-decomposition H_m = V diag(l) V^T: R = diag(sqrt l)
   // V^T, e = diag(1 / sqrt l) V^T g_m, over the eigenvalues above rounding (a direction of x_m no
   // eliminated residual touches carries no information and gets a zero row).

@@ -130,5 +130,39 @@ TEST(SmootherMarginalization, PriorIsTheSchurComplementOfTheEliminatedResiduals)
   EXPECT_NE(why.find("not a keyframe state"), std::string::npos) << why;
 }
 
+// The elimination runs along the chain: a residual between keyframes that are not consecutive
+// is refused (it would need fill the block elimination does not carry), and so is an eliminated
+// state that no residual determines.
+TEST(SmootherMarginalization, RefusesWhatIsNotAChain) {
+  Rng rng(4);
+  std::vector<std::array<double, 16>> storage(4);
+  std::vector<KeyframeBlockPointers> keyframes;
+  ceres::EigenQuaternionManifold quaternion;
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  for (auto& s : storage) {
+    s = {0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    KeyframeBlockPointers b{s.data(), s.data() + 4, s.data() + 7, s.data() + 10, s.data() + 13};
+    problem.AddParameterBlock(b[0], 4, &quaternion);
+    for (int i = 1; i < 5; ++i) problem.AddParameterBlock(b[i], 3);
+    keyframes.push_back(b);
+  }
+  // Keyframe 0's velocity and biases are touched by nothing: not determined.
+  problem.AddResidualBlock(new LinearFactor({4, 3}, rng), nullptr, keyframes[0][0],
+                           keyframes[0][1]);
+  problem.AddResidualBlock(new LinearFactor({3, 3}, rng), nullptr, keyframes[0][1],
+                           keyframes[1][1]);
+  std::string why;
+  EXPECT_FALSE(MarginalizeKeyframes(&problem, keyframes, 2, 1, &why));
+  EXPECT_NE(why.find("not determined"), std::string::npos) << why;
+  // Keyframes 0 and 2 coupled directly.
+  problem.AddResidualBlock(new LinearFactor({3, 3}, rng), nullptr, keyframes[0][2],
+                           keyframes[2][2]);
+  why.clear();
+  EXPECT_FALSE(MarginalizeKeyframes(&problem, keyframes, 3, 1, &why));
+  EXPECT_NE(why.find("keyframes 0 and 2, which are not consecutive"), std::string::npos) << why;
+}
+
 }  // namespace
 }  // namespace mavloc
