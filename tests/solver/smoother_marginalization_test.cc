@@ -55,24 +55,40 @@ class LinearFactor : public ceres::CostFunction {
   Eigen::VectorXd b_;
 };
 
+// n keyframes' parameter blocks (q on Ceres' quaternion manifold, p, v, b_g, b_a) in a problem:
+// random states drawn from rng when given, else the identity and zeros.
+struct KeyframeChain {
+  KeyframeChain(int n, Rng* rng) : storage(n), problem(ProblemOptions()) {
+    for (auto& s : storage) {
+      s = {0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+      if (rng) {
+        const Eigen::Quaterniond q = ExpQuaternion(rng->Gaussian3(1.0));
+        s = {q.x(), q.y(), q.z(), q.w()};
+        for (int i = 4; i < 16; ++i) s[i] = rng->Uniform(-1.0, 1.0);
+      }
+      KeyframeBlockPointers b{s.data(), s.data() + 4, s.data() + 7, s.data() + 10, s.data() + 13};
+      problem.AddParameterBlock(b[0], 4, &quaternion);
+      for (int i = 1; i < 5; ++i) problem.AddParameterBlock(b[i], 3);
+      keyframes.push_back(b);
+    }
+  }
+  static ceres::Problem::Options ProblemOptions() {
+    ceres::Problem::Options options;
+    options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    return options;
+  }
+  std::vector<std::array<double, 16>> storage;
+  ceres::EigenQuaternionManifold quaternion;
+  ceres::Problem problem;
+  std::vector<KeyframeBlockPointers> keyframes;
+};
+
 TEST(SmootherMarginalization, PriorIsTheSchurComplementOfTheEliminatedResiduals) {
   Rng rng(3);
   constexpr int kKeyframes = 6, kM = 4;
-  std::vector<std::array<double, 16>> storage(kKeyframes);
-  std::vector<KeyframeBlockPointers> keyframes;
-  ceres::EigenQuaternionManifold quaternion;
-  ceres::Problem::Options problem_options;
-  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  for (auto& s : storage) {
-    const Eigen::Quaterniond q = ExpQuaternion(rng.Gaussian3(1.0));
-    s = {q.x(), q.y(), q.z(), q.w()};
-    for (int i = 4; i < 16; ++i) s[i] = rng.Uniform(-1.0, 1.0);
-    KeyframeBlockPointers b{s.data(), s.data() + 4, s.data() + 7, s.data() + 10, s.data() + 13};
-    problem.AddParameterBlock(b[0], 4, &quaternion);
-    for (int i = 1; i < 5; ++i) problem.AddParameterBlock(b[i], 3);
-    keyframes.push_back(b);
-  }
+  KeyframeChain chain(kKeyframes, &rng);
+  ceres::Problem& problem = chain.problem;
+  const std::vector<KeyframeBlockPointers>& keyframes = chain.keyframes;
   // Per keyframe three unary factors over all its blocks, and a chain factor to the next one
   // (over q, p, v of both and the biases of the first): every eliminated state is determined;
   // keyframe m's biases are touched by no eliminated residual (their rows of the prior are zero).
@@ -135,19 +151,9 @@ TEST(SmootherMarginalization, PriorIsTheSchurComplementOfTheEliminatedResiduals)
 // state that no residual determines.
 TEST(SmootherMarginalization, RefusesWhatIsNotAChain) {
   Rng rng(4);
-  std::vector<std::array<double, 16>> storage(4);
-  std::vector<KeyframeBlockPointers> keyframes;
-  ceres::EigenQuaternionManifold quaternion;
-  ceres::Problem::Options problem_options;
-  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  for (auto& s : storage) {
-    s = {0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-    KeyframeBlockPointers b{s.data(), s.data() + 4, s.data() + 7, s.data() + 10, s.data() + 13};
-    problem.AddParameterBlock(b[0], 4, &quaternion);
-    for (int i = 1; i < 5; ++i) problem.AddParameterBlock(b[i], 3);
-    keyframes.push_back(b);
-  }
+  KeyframeChain chain(4, nullptr);
+  ceres::Problem& problem = chain.problem;
+  const std::vector<KeyframeBlockPointers>& keyframes = chain.keyframes;
   // Keyframe 0's velocity and biases are touched by nothing: not determined.
   problem.AddResidualBlock(new LinearFactor({4, 3}, rng), nullptr, keyframes[0][0],
                            keyframes[0][1]);
