@@ -227,11 +227,7 @@ std::vector<GroundTruthState> ReadGroundTruthCsv(const std::string& path) {
 // a stamp never goes back.
 void RequireNonDecreasing(const TextTable& table, const std::vector<TimeNs>& t,
                           const std::vector<long>& lines) {
-  for (size_t i = 1; i < t.size(); ++i) {
-    if (t[i] < t[i - 1])
-      throw InputError(table.path, lines[i], table.FieldName(0),
-                       "timestamp " + std::to_string(t[i]) + " is earlier than the previous row's");
-  }
+  for (size_t i = 1; i < t.size(); ++i) table.RequireNotBefore(t[i - 1], t[i], lines[i]);
 }
 
 // Streamed row by row (an hour of features at 20 Hz is millions of rows: held as text they took
@@ -247,9 +243,7 @@ std::vector<FeatureObservation> ReadFeatures(const std::string& path,
   while (const TextRowView* row = reader.Next()) {
     if (out.empty()) columns.header = reader.header();
     const TimeNs t_ns = columns.TimestampNsText(row->fields[0], row->line, 0);
-    if (!out.empty() && t_ns < out.back().t_ns)
-      throw InputError(path, row->line, columns.FieldName(0),
-                       "timestamp " + std::to_string(t_ns) + " is earlier than the previous row's");
+    if (!out.empty()) columns.RequireNotBefore(out.back().t_ns, t_ns, row->line);
     columns.RequireFieldCount(row->fields.size(), row->line, 4);
     out.push_back({t_ns,
                    columns.IdText(row->fields[1], row->line, 1),

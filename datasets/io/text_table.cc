@@ -137,6 +137,10 @@ void TextTable::RequireIncreasing(const std::vector<TimeNs>& t_ns,
 void TextTable::RequireAfter(TimeNs previous_ns, TimeNs t_ns, long line) const {
   if (t_ns == previous_ns)
     throw InputError(path, line, FieldName(0), "duplicate timestamp " + std::to_string(t_ns));
+  RequireNotBefore(previous_ns, t_ns, line);
+}
+
+void TextTable::RequireNotBefore(TimeNs previous_ns, TimeNs t_ns, long line) const {
   if (t_ns < previous_ns)
     throw InputError(path, line, FieldName(0),
                      "timestamp " + std::to_string(t_ns) + " is earlier than the previous row's");

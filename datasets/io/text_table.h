@@ -64,6 +64,9 @@ struct TextTable {
   // Throws unless t_ns (field 0 of the row at `line`) is after previous_ns, the stamp of the row
   // before: "duplicate timestamp ..." or "timestamp ... is earlier than the previous row's".
   void RequireAfter(TimeNs previous_ns, TimeNs t_ns, long line) const;
+  // The same allowing equal stamps (observation streams: several rows per stamp): throws only
+  // "timestamp ... is earlier than the previous row's".
+  void RequireNotBefore(TimeNs previous_ns, TimeNs t_ns, long line) const;
 };
 
 // The rows of a text file, one at a time. Lines are split at '\n' (a '\r' before it is trimmed
