@@ -97,32 +97,20 @@ size_t NearestForward(const std::vector<TimeNs>& stamps, TimeNs t, size_t* curso
 
 }  // namespace
 
-AssociationResult AssociateTrajectories(const std::vector<StampedPose>& estimate,
-                                        const std::vector<StampedPose>& truth,
-                                        const AssociationOptions& options) {
-  AssociationResult out;
-  if (estimate.empty() || truth.empty()) return out;
+PairedPoses AssociatePairs(const std::vector<StampedPose>& estimate,
+                           const std::vector<StampedPose>& truth,
+                           const AssociationOptions& options) {
+  const bool interpolate = options.mode == AssociationMode::kInterpolate;
   const TimeNs offset_ns = SecondsToNs(options.time_offset_s);
+  PairedPoses pairs(estimate, truth, offset_ns, interpolate);
+  if (estimate.empty() || truth.empty()) return pairs;
   const TimeNs max_dt_ns = SecondsToNs(options.max_dt_s);
   std::vector<TimeNs> est_t(estimate.size()), gt_t(truth.size());
   for (size_t i = 0; i < estimate.size(); ++i) est_t[i] = estimate[i].t_ns + offset_ns;
   for (size_t i = 0; i < truth.size(); ++i) gt_t[i] = truth[i].t_ns;
-  const bool make_pairs = options.make_pairs || options.mode != AssociationMode::kNearest;
-  const bool make_indices = options.make_indices || !make_pairs;
-  const auto add = [&](size_t ie, size_t ig, const Pose& T_W_B_gt) {
-    if (make_pairs) out.pairs.push_back({est_t[ie], estimate[ie].T_W_B, T_W_B_gt});
-    if (!make_indices) return;
-    out.estimate_index.push_back(ie);
-    out.truth_index.push_back(ig);
-  };
-  const size_t reserve = std::min(estimate.size(), truth.size());
-  if (make_pairs) out.pairs.reserve(reserve);
-  if (make_indices) {
-    out.estimate_index.reserve(reserve);
-    out.truth_index.reserve(reserve);
-  }
+  pairs.Reserve(std::min(estimate.size(), truth.size()));
 
-  if (options.mode == AssociationMode::kNearest) {
+  if (!interpolate) {
     // evo: snd_longer = len(est) > len(ref); the shorter one is walked.
     const bool walk_truth = estimate.size() > truth.size();
     const auto& walked = walk_truth ? gt_t : est_t;
@@ -132,30 +120,48 @@ AssociationResult AssociateTrajectories(const std::vector<StampedPose>& estimate
       const size_t s = NearestForward(searched, walked[w], &cursor);
       const TimeNs dt = walked[w] > searched[s] ? walked[w] - searched[s] : searched[s] - walked[w];
       if (dt > max_dt_ns) continue;
-      const size_t ie = walk_truth ? s : w, ig = walk_truth ? w : s;
-      add(ie, ig, truth[ig].T_W_B);
+      pairs.Add(walk_truth ? s : w, walk_truth ? w : s);
     }
-    return out;
+    return pairs;
   }
 
-  // Interpolation: bracket each estimate stamp with a forward-moving index.
+  // Interpolation: bracket each estimate stamp with a forward-moving index; the pair keeps the
+  // lower node (the truth sample itself on an exact stamp).
   size_t k = 0;  // first truth stamp >= t
   for (size_t ie = 0; ie < est_t.size(); ++ie) {
     const TimeNs t = est_t[ie];
     while (k < gt_t.size() && gt_t[k] < t) ++k;
     if (k == gt_t.size()) break;  // after the last truth stamp
     if (gt_t[k] == t) {
-      add(ie, k, truth[k].T_W_B);
+      pairs.Add(ie, k);
       continue;
     }
     if (k == 0) continue;  // before the first truth stamp
-    const size_t i = k - 1;
-    const TimeNs gap_low = t - gt_t[i], gap_high = gt_t[k] - t;
+    const TimeNs gap_low = t - gt_t[k - 1], gap_high = gt_t[k] - t;
     if (std::min(gap_low, gap_high) > max_dt_ns) continue;
-    const double a = static_cast<double>(gap_low) / static_cast<double>(gt_t[k] - gt_t[i]);
-    const Pose& A = truth[i].T_W_B;
-    const Pose& B = truth[k].T_W_B;
-    add(ie, i, Pose(A.q.slerp(a, B.q).normalized(), (1.0 - a) * A.p + a * B.p));
+    pairs.Add(ie, k - 1);
+  }
+  return pairs;
+}
+
+AssociationResult AssociateTrajectories(const std::vector<StampedPose>& estimate,
+                                        const std::vector<StampedPose>& truth,
+                                        const AssociationOptions& options) {
+  AssociationResult out;
+  const PairedPoses pairs = AssociatePairs(estimate, truth, options);
+  const bool make_pairs = options.make_pairs || options.mode != AssociationMode::kNearest;
+  const bool make_indices = options.make_indices || !make_pairs;
+  if (make_pairs) {
+    out.pairs.reserve(pairs.size());
+    for (const PosePair& pair : pairs) out.pairs.push_back(pair);
+  }
+  if (make_indices) {
+    out.estimate_index.reserve(pairs.size());
+    out.truth_index.reserve(pairs.size());
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      out.estimate_index.push_back(pairs.estimate_index(i));
+      out.truth_index.push_back(pairs.truth_index(i));
+    }
   }
   return out;
 }

@@ -10,16 +10,11 @@
 #include "core/dataset.h"
 #include "core/pose.h"
 #include "core/quantities.h"
+#include "evaluation/paired_poses.h"
 
 namespace mavloc {
 
 enum class AssociationMode { kNearest, kInterpolate };
-
-struct PosePair {
-  TimeNs t_ns = 0;
-  Pose T_W_B_est;
-  Pose T_W_B_gt;
-};
 
 // Pairs estimated poses with ground truth. Estimates outside the ground truth span, or farther
 // than max_dt_s from a ground truth sample, are dropped.
@@ -60,6 +55,11 @@ struct AssociationResult {
 AssociationResult AssociateTrajectories(const std::vector<StampedPose>& estimate,
                                         const std::vector<StampedPose>& truth,
                                         const AssociationOptions& options);
+// The same association as pairs by index (paired_poses.h), which read estimate and truth in
+// place: both must outlive the result. make_pairs and make_indices are ignored.
+PairedPoses AssociatePairs(const std::vector<StampedPose>& estimate,
+                           const std::vector<StampedPose>& truth,
+                           const AssociationOptions& options);
 
 // The ground truth's named quantities at the given stamps (same rule), as a table with the
 // requested names. Rows that cannot be associated are dropped (so the result's t_ns is a subset).

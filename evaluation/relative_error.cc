@@ -3,15 +3,21 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include "core/rotation.h"
 
 namespace mavloc {
 
-std::vector<double> AccumulatedDistances(const std::vector<PosePair>& pairs) {
+std::vector<double> AccumulatedDistances(const PairedPoses& pairs) {
   std::vector<double> d(pairs.size(), 0.0);
-  for (size_t i = 1; i < pairs.size(); ++i)
-    d[i] = d[i - 1] + (pairs[i].T_W_B_gt.p - pairs[i - 1].T_W_B_gt.p).norm();
+  if (pairs.empty()) return d;
+  Eigen::Vector3d previous = pairs.p_gt(0);
+  for (size_t i = 1; i < pairs.size(); ++i) {
+    const Eigen::Vector3d p = pairs.p_gt(i);
+    d[i] = d[i - 1] + (p - previous).norm();
+    previous = p;
+  }
   return d;
 }
 
@@ -56,25 +62,31 @@ std::vector<long> SegmentEndIndices(const std::vector<double>& distances, double
   return end;
 }
 
-RelativeErrorAtLength ComputeRelativeError(const std::vector<PosePair>& pairs,
+RelativeErrorAtLength ComputeRelativeError(const PairedPoses& pairs,
                                            const std::vector<double>& distances, double length_m,
                                            double max_length_diff_fraction, double scale,
-                                           const Eigen::Matrix3d& R_raw_aligned) {
+                                           const Eigen::Matrix3d& R_raw_aligned,
+                                           bool keep_segments) {
   RelativeErrorAtLength r;
   r.length_m = length_m;
   if (!(length_m > 0) || pairs.size() != distances.size()) return r;
-  const auto end = SegmentEndIndices(distances, length_m, max_length_diff_fraction * length_m);
+  auto end = SegmentEndIndices(distances, length_m, max_length_diff_fraction * length_m);
   const size_t found =
       static_cast<size_t>(std::count_if(end.begin(), end.end(), [](long j) { return j >= 0; }));
   if (found < 2) return r;  // rpg: "Too few samples! Will not compute."
-  for (auto* values : {&r.translation_m, &r.translation_percent, &r.rotation_deg,
-                       &r.rotation_deg_per_m, &r.yaw_deg, &r.tilt_deg})
+  // Without the segments, the % and per-metre series are not stored: their statistics come from
+  // the metres' and degrees' (ComputeStatisticsWithImage, the same bits).
+  for (auto* values : {&r.translation_m, &r.rotation_deg, &r.yaw_deg, &r.tilt_deg})
     values->reserve(found);
-  r.start_t_ns.reserve(found);
+  if (keep_segments) {
+    r.start_t_ns.reserve(found);
+    r.translation_percent.reserve(found);
+    r.rotation_deg_per_m.reserve(found);
+  }
   for (size_t i = 0; i < pairs.size(); ++i) {
     if (end[i] < 0) continue;
-    const PosePair& a = pairs[i];
-    const PosePair& b = pairs[static_cast<size_t>(end[i])];
+    const PosePair a = pairs[i];
+    const PosePair b = pairs[static_cast<size_t>(end[i])];
     // dT_est = T_c1^-1 T_c2 (translation scaled), dT_gt = T_m1^-1 T_m2, E_c = dT_gt^-1 dT_est.
     const Eigen::Matrix3d Re1 = a.T_W_B_est.R(), Re2 = b.T_W_B_est.R();
     const Eigen::Matrix3d Rg1 = a.T_W_B_gt.R(), Rg2 = b.T_W_B_gt.R();
@@ -93,21 +105,36 @@ RelativeErrorAtLength ComputeRelativeError(const std::vector<PosePair>& pairs,
     // keeps its precision near 0, where arccos loses about 1e-8 rad.
     const double angle_deg = PoseErrors(R_w, t_w).rotation_deg;
     const EulerRpy ypr = EulerFromRotation(R_w);  // R = Rz(yaw) Ry(pitch) Rx(roll), rpg 'rzyx'
-    r.start_t_ns.push_back(a.t_ns);
+    if (keep_segments) {
+      r.start_t_ns.push_back(a.t_ns);
+      r.translation_percent.push_back(100.0 * tn / length_m);
+      r.rotation_deg_per_m.push_back(angle_deg / length_m);
+    }
     r.translation_m.push_back(tn);
-    r.translation_percent.push_back(100.0 * tn / length_m);
     r.rotation_deg.push_back(angle_deg);
-    r.rotation_deg_per_m.push_back(angle_deg / length_m);
     r.yaw_deg.push_back(std::abs(ypr.yaw) * 180.0 / M_PI);
     r.tilt_deg.push_back(std::hypot(ypr.pitch, ypr.roll) * 180.0 / M_PI);
   }
   r.segments = r.translation_m.size();
-  r.translation_m_stats = ComputeStatistics(r.translation_m);
-  r.translation_percent_stats = ComputeStatistics(r.translation_percent);
-  r.rotation_deg_stats = ComputeStatistics(r.rotation_deg);
-  r.rotation_deg_per_m_stats = ComputeStatistics(r.rotation_deg_per_m);
-  r.yaw_deg_stats = ComputeStatistics(r.yaw_deg);
-  r.tilt_deg_stats = ComputeStatistics(r.tilt_deg);
+  end = std::vector<long>();  // released before the statistics
+  if (keep_segments) {
+    r.translation_m_stats = ComputeStatistics(r.translation_m);
+    r.translation_percent_stats = ComputeStatistics(r.translation_percent);
+    r.rotation_deg_stats = ComputeStatistics(r.rotation_deg);
+    r.rotation_deg_per_m_stats = ComputeStatistics(r.rotation_deg_per_m);
+    r.yaw_deg_stats = ComputeStatistics(r.yaw_deg);
+    r.tilt_deg_stats = ComputeStatistics(r.tilt_deg);
+    return r;
+  }
+  std::tie(r.translation_m_stats, r.translation_percent_stats) = ComputeStatisticsWithImage(
+      std::move(r.translation_m), [length_m](double tn) { return 100.0 * tn / length_m; });
+  std::tie(r.rotation_deg_stats, r.rotation_deg_per_m_stats) = ComputeStatisticsWithImage(
+      std::move(r.rotation_deg), [length_m](double angle) { return angle / length_m; });
+  r.yaw_deg_stats = ComputeStatistics(std::move(r.yaw_deg));
+  r.tilt_deg_stats = ComputeStatistics(std::move(r.tilt_deg));
+  // Released (assigning {} would keep the capacity).
+  for (auto* values : {&r.translation_m, &r.rotation_deg, &r.yaw_deg, &r.tilt_deg})
+    *values = std::vector<double>();
   return r;
 }
 

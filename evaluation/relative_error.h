@@ -54,7 +54,7 @@ struct RelativeErrorAtLength {
 
 // Accumulated path length of the truth positions: dist(0) = 0, dist(i) = dist(i-1) + |p_i -
 // p_(i-1)| (rpg get_distance_from_start).
-std::vector<double> AccumulatedDistances(const std::vector<PosePair>& pairs);
+std::vector<double> AccumulatedDistances(const PairedPoses& pairs);
 
 // The default lengths (rpg trajectory.py compute_boxplot_distances): each fraction f of the
 // truth's path length L truncated to 2 decimals, trunc(100 f L) / 100 metres, L being the path
@@ -73,10 +73,12 @@ std::vector<long> SegmentEndIndices(const std::vector<double>& distances, double
 // R_raw_aligned: the rotation from the frame of the pairs' estimate to the estimate's own world,
 // in which rpg expresses E_w (yaw and tilt depend on it; the other values do not): the transpose
 // of the alignment's rotation when the pairs hold the aligned estimate, identity for raw ones.
+// keep_segments false keeps the count and the statistics alone (as RelativeErrorStatistics),
+// each series released once its statistics are taken.
 RelativeErrorAtLength ComputeRelativeError(
-    const std::vector<PosePair>& pairs, const std::vector<double>& distances, double length_m,
+    const PairedPoses& pairs, const std::vector<double>& distances, double length_m,
     double max_length_diff_fraction = 0.2, double scale = 1.0,
-    const Eigen::Matrix3d& R_raw_aligned = Eigen::Matrix3d::Identity());
+    const Eigen::Matrix3d& R_raw_aligned = Eigen::Matrix3d::Identity(), bool keep_segments = true);
 
 // The same without the per-segment values: the length, the segment count and the statistics.
 RelativeErrorAtLength RelativeErrorStatistics(const RelativeErrorAtLength& full);

@@ -148,7 +148,7 @@ double MedianSpacingSeconds(const std::vector<StampedPose>& poses) {
   return median;
 }
 
-RotationOffsetDiagnostic DiagnoseRotationOffset(const std::vector<PosePair>& aligned_pairs,
+RotationOffsetDiagnostic DiagnoseRotationOffset(const PairedPoses& aligned_pairs,
                                                 const DiagnosticOptions& options) {
   RotationOffsetDiagnostic d;
   if (aligned_pairs.size() < 3) return d;

@@ -113,7 +113,7 @@ double MedianSpacingSeconds(const std::vector<StampedPose>& poses);
 
 // Each diagnostic on its own (EvaluateTrajectory calls them all).
 // pairs: after alignment (T_W_B_est already mapped by the alignment).
-RotationOffsetDiagnostic DiagnoseRotationOffset(const std::vector<PosePair>& aligned_pairs,
+RotationOffsetDiagnostic DiagnoseRotationOffset(const PairedPoses& aligned_pairs,
                                                 const DiagnosticOptions& options);
 // estimate and truth as given; estimate_time_offset_s (the protocol's offset) is added to the
 // estimate's stamps first, so the result is the offset still left.

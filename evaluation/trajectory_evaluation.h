@@ -97,9 +97,10 @@ struct EvaluationProtocol {
   std::vector<double> relative_lengths_m;
   std::vector<double> relative_length_fractions{0.1, 0.2, 0.3, 0.4, 0.5};
   double max_length_diff_fraction = 0.2;  // rpg: max_dist_diff = 0.2 * d
-  // Keep the relative errors of every segment (for CSVs and boxplots); false keeps only their
-  // count and statistics (a million-pose trajectory has millions of segments).
-  bool keep_relative_segments = true;
+  // Keep the per-pair errors (APE over time with the pairs' stamps, RPE per selected pair) and the
+  // relative error of every segment, for CSVs, figures and boxplots; false keeps only counts and
+  // statistics (a million-pose trajectory has millions of segments).
+  bool keep_series = true;
 
   // Diagnostics (trajectory_diagnostics.h); metric_estimator: a Sim3 scale far from 1 is a fault.
   DiagnosticOptions diagnostics;
@@ -138,7 +139,7 @@ struct TrajectoryEvaluation {
   ErrorStatistics ape_rotation_part;
   ErrorStatistics ape_full;
   std::vector<TimeNs> pair_t_ns;  // estimate stamps of the pairs (time offset applied)
-  ApeSeries ape;
+  ApeSeries ape;                  // empty when !protocol.keep_series
 
   std::vector<RpeDeltaResult> rpe;              // one per protocol.rpe_deltas entry
   std::vector<RelativeErrorAtLength> relative;  // one per relative length

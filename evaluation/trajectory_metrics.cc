@@ -9,35 +9,11 @@
 namespace mavloc {
 
 ErrorStatistics ComputeStatistics(const std::vector<double>& errors) {
-  // evo's PE.get_statistic: rmse = sqrt(mean(e^2)), sse = sum(e^2), numpy mean/median/std
-  // (population, two-pass)/min/max.
-  ErrorStatistics s;
-  s.count = errors.size();
-  if (errors.empty()) return s;
-  double sum = 0.0, sum_sq = 0.0;
-  s.min = errors.front();
-  s.max = errors.front();
-  for (double e : errors) {
-    sum += e;
-    sum_sq += e * e;
-    s.min = std::min(s.min, e);
-    s.max = std::max(s.max, e);
-  }
-  const double n = static_cast<double>(errors.size());
-  s.mean = sum / n;
-  s.sse = sum_sq;
-  s.rmse = std::sqrt(sum_sq / n);
-  double sum_dev_sq = 0.0;
-  for (double e : errors) sum_dev_sq += (e - s.mean) * (e - s.mean);
-  s.std = std::sqrt(sum_dev_sq / n);
-  std::vector<double> sorted = errors;
-  const size_t m = sorted.size() / 2;
-  std::nth_element(sorted.begin(), sorted.begin() + m, sorted.end());
-  s.median = sorted[m];
-  if (sorted.size() % 2 == 0) {
-    s.median = 0.5 * (*std::max_element(sorted.begin(), sorted.begin() + m) + s.median);
-  }
-  return s;
+  return ComputeStatistics(std::vector<double>(errors));
+}
+
+ErrorStatistics ComputeStatistics(std::vector<double>&& errors) {
+  return ComputeStatisticsWithImage(std::move(errors), [](double e) { return e; }).first;
 }
 
 std::optional<PoseRelation> ParsePoseRelation(const std::string& name) {
@@ -95,22 +71,27 @@ PoseErrorValues PoseErrors(const Eigen::Matrix3d& R_E, const Eigen::Vector3d& t_
   return e;
 }
 
+namespace {
+
+// filter_pairs_by_index: all_pairs (i, i + d) for every i with i + d < n; else ids 0, d, 2d, ...
+// < n and the pairs of consecutive ids.
+template <typename Visit>
+void ForEachFramePair(size_t n, const RpeDelta& delta, const Visit& visit) {
+  const long d = std::lround(delta.delta);
+  if (d <= 0) return;
+  const size_t step = static_cast<size_t>(d);
+  for (size_t i = 0; i + step < n; i += delta.all_pairs ? 1 : step) visit(i, i + step);
+}
+
+}  // namespace
+
 std::vector<std::pair<size_t, size_t>> SelectRpePairs(const std::vector<Eigen::Vector3d>& positions,
                                                       const std::vector<double>& t_s,
                                                       const RpeDelta& delta) {
   std::vector<std::pair<size_t, size_t>> pairs;
   if (delta.unit == DeltaUnit::kFrames) {
-    const long d = std::lround(delta.delta);
-    const size_t n = positions.size();
-    if (d <= 0) return pairs;
-    const size_t step = static_cast<size_t>(d);
-    if (delta.all_pairs) {
-      // filter_pairs_by_index, all_pairs: (i, i + d) for i + d < n.
-      for (size_t i = 0; i + step < n; ++i) pairs.emplace_back(i, i + step);
-    } else {
-      // ids = 0, d, 2d, ... < n; consecutive ids.
-      for (size_t i = 0; i + step < n; i += step) pairs.emplace_back(i, i + step);
-    }
+    ForEachFramePair(positions.size(), delta,
+                     [&pairs](size_t i, size_t j) { pairs.emplace_back(i, j); });
     return pairs;
   }
   // Metres (path length) or seconds (time): increments and their running sum (numpy.cumsum).
@@ -170,8 +151,8 @@ std::vector<std::pair<size_t, size_t>> SelectRpePairs(const std::vector<Eigen::V
   return pairs;
 }
 
-std::optional<RpeDeltaResult> ComputeRpeEvo(const std::vector<PosePair>& pairs,
-                                            const RpeDelta& delta) {
+std::optional<RpeDeltaResult> ComputeRpeEvo(const PairedPoses& pairs, const RpeDelta& delta,
+                                            bool keep_series) {
   std::vector<Eigen::Vector3d> positions;
   std::vector<double> t_s;
   if (delta.unit == DeltaUnit::kMetres) {
@@ -180,41 +161,73 @@ std::optional<RpeDeltaResult> ComputeRpeEvo(const std::vector<PosePair>& pairs,
       positions.push_back(delta.pairs_from_reference ? pair.T_W_B_gt.p : pair.T_W_B_est.p);
   } else if (delta.unit == DeltaUnit::kSeconds) {
     t_s.reserve(pairs.size());
-    for (const auto& pair : pairs) t_s.push_back(NsToSeconds(pair.t_ns - pairs.front().t_ns));
-  } else {
-    positions.resize(pairs.size());  // only the count is used
+    const TimeNs t0_ns = pairs.t_ns(0);
+    for (size_t i = 0; i < pairs.size(); ++i) t_s.push_back(NsToSeconds(pairs.t_ns(i) - t0_ns));
   }
-  const auto ids = SelectRpePairs(positions, t_s, delta);
-  if (ids.empty()) return std::nullopt;
+  // Frames: the pairs (i, i + d) are visited without being listed (a list of 16-byte pairs for
+  // every pose otherwise); metres and seconds: selected on the path or the stamps.
+  const bool frames = delta.unit == DeltaUnit::kFrames;
+  const std::vector<std::pair<size_t, size_t>> ids =
+      frames ? std::vector<std::pair<size_t, size_t>>() : SelectRpePairs(positions, t_s, delta);
+  positions = std::vector<Eigen::Vector3d>();  // released, not only cleared
+  t_s = std::vector<double>();
+  const auto for_each_pair = [&](const auto& visit) {
+    if (frames) {
+      ForEachFramePair(pairs.size(), delta, visit);
+    } else {
+      for (const auto& [i, j] : ids) visit(i, j);
+    }
+  };
+  size_t count = 0;
+  for_each_pair([&count](size_t, size_t) { ++count; });
+  if (count == 0) return std::nullopt;
+  // E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j), Q truth, P estimate (evo RPE.rpe_base). A pair read as the
+  // end j is kept for the next start (consecutive pairs share it: ids 0, d, 2d, ...).
+  size_t kept_index = pairs.size();
+  PosePair kept;
+  const auto read = [&](size_t k) {
+    if (k != kept_index) kept = pairs[k];
+    kept_index = k;
+    return kept;
+  };
+  const auto rpe_error = [&read](const PosePair& pair_i, size_t j) {
+    const PosePair pair_j = read(j);
+    const Eigen::Matrix3d Rq_i = pair_i.T_W_B_gt.R(), Rq_j = pair_j.T_W_B_gt.R();
+    const Eigen::Matrix3d Rp_i = pair_i.T_W_B_est.R(), Rp_j = pair_j.T_W_B_est.R();
+    const Eigen::Matrix3d Rq = Rq_i.transpose() * Rq_j;
+    const Eigen::Vector3d tq = Rq_i.transpose() * (pair_j.T_W_B_gt.p - pair_i.T_W_B_gt.p);
+    const Eigen::Matrix3d Rp = Rp_i.transpose() * Rp_j;
+    const Eigen::Vector3d tp = Rp_i.transpose() * (pair_j.T_W_B_est.p - pair_i.T_W_B_est.p);
+    return PoseErrors(Rq.transpose() * Rp, Rq.transpose() * (tp - tq));
+  };
   RpeDeltaResult result;
   result.delta = delta;
-  result.t_ns.reserve(ids.size());
-  result.errors.reserve(ids.size());
-  std::vector<double> translation, rotation, rotation_part, full;
-  translation.reserve(ids.size());
-  rotation.reserve(ids.size());
-  rotation_part.reserve(ids.size());
-  full.reserve(ids.size());
-  for (const auto& [i, j] : ids) {
-    // E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j), Q truth, P estimate (evo RPE.rpe_base).
-    const Eigen::Matrix3d Rq_i = pairs[i].T_W_B_gt.R(), Rq_j = pairs[j].T_W_B_gt.R();
-    const Eigen::Matrix3d Rp_i = pairs[i].T_W_B_est.R(), Rp_j = pairs[j].T_W_B_est.R();
-    const Eigen::Matrix3d Rq = Rq_i.transpose() * Rq_j;
-    const Eigen::Vector3d tq = Rq_i.transpose() * (pairs[j].T_W_B_gt.p - pairs[i].T_W_B_gt.p);
-    const Eigen::Matrix3d Rp = Rp_i.transpose() * Rp_j;
-    const Eigen::Vector3d tp = Rp_i.transpose() * (pairs[j].T_W_B_est.p - pairs[i].T_W_B_est.p);
-    const PoseErrorValues e = PoseErrors(Rq.transpose() * Rp, Rq.transpose() * (tp - tq));
-    result.t_ns.push_back(pairs[i].t_ns);
-    result.errors.push_back(e);
-    translation.push_back(e.translation_m);
-    rotation.push_back(e.rotation_deg);
-    rotation_part.push_back(e.rotation_part);
-    full.push_back(e.full);
+  if (!keep_series) {
+    const PoseErrorStatistics statistics = StatisticsInTwoPasses(count, [&](const auto& sink) {
+      for_each_pair([&](size_t i, size_t j) { sink(rpe_error(read(i), j)); });
+    });
+    result.translation_m = statistics.translation_m;
+    result.rotation_deg = statistics.rotation_deg;
+    result.rotation_part = statistics.rotation_part;
+    result.full = statistics.full;
+    return result;
   }
-  result.translation_m = ComputeStatistics(translation);
-  result.rotation_deg = ComputeStatistics(rotation);
-  result.rotation_part = ComputeStatistics(rotation_part);
-  result.full = ComputeStatistics(full);
+  result.t_ns.reserve(count);
+  result.errors.reserve(count);
+  for_each_pair([&](size_t i, size_t j) {
+    const PosePair pair_i = read(i);
+    result.t_ns.push_back(pair_i.t_ns);
+    result.errors.push_back(rpe_error(pair_i, j));
+  });
+  std::vector<double> values(count);
+  const auto statistics = [&](double PoseErrorValues::*member) {
+    for (size_t k = 0; k < count; ++k) values[k] = result.errors[k].*member;
+    return ComputeStatistics(std::move(values));
+  };
+  result.translation_m = statistics(&PoseErrorValues::translation_m);
+  result.rotation_deg = statistics(&PoseErrorValues::rotation_deg);
+  result.rotation_part = statistics(&PoseErrorValues::rotation_part);
+  result.full = statistics(&PoseErrorValues::full);
   return result;
 }
 

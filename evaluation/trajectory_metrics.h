@@ -4,6 +4,8 @@
 // over the selected pairs E = (T_gt,i^-1 T_gt,j)^-1 (T_est,i^-1 T_est,j).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
@@ -27,6 +29,17 @@ struct ErrorStatistics {
 
 // Statistics of a set of non-negative errors (all zero for an empty set, with count 0).
 ErrorStatistics ComputeStatistics(const std::vector<double>& errors);
+// The same, taking the values (their order is lost: the median is found in place, no copy).
+ErrorStatistics ComputeStatistics(std::vector<double>&& errors);
+
+// The statistics of the values and of their image f(e_i) (f non-decreasing, e.g. a division by a
+// positive length), without storing the image: the same bits as ComputeStatistics of each series.
+// The sums run over the values in their order; the image's order statistics are f of the values'
+// (for a non-decreasing f the k-th smallest f(e) is f of the k-th smallest e, ties included).
+// The values' order is lost.
+template <typename F>
+std::pair<ErrorStatistics, ErrorStatistics> ComputeStatisticsWithImage(std::vector<double>&& errors,
+                                                                       F f);
 
 // ---- evo's APE/RPE (evo/core/metrics.py), used by trajectory_evaluation.h -----------------------
 
@@ -48,6 +61,19 @@ struct PoseErrorValues {
 // E given as a rotation matrix and translation (the rotation is used as given, so that a scaled or
 // non-orthonormal input reproduces evo's matrix arithmetic).
 PoseErrorValues PoseErrors(const Eigen::Matrix3d& R_E, const Eigen::Vector3d& t_E);
+
+// The statistics of the four error series that `produce` gives: produce(sink) calls
+// sink(PoseErrorValues) once per element, in the same order every time. Two passes of two series
+// each (half the memory of the four series at once, for twice the error arithmetic); the same
+// statistics as ComputeStatistics of each series.
+struct PoseErrorStatistics {
+  ErrorStatistics translation_m;
+  ErrorStatistics rotation_deg;
+  ErrorStatistics rotation_part;
+  ErrorStatistics full;
+};
+template <typename Produce>
+PoseErrorStatistics StatisticsInTwoPasses(size_t count, const Produce& produce);
 
 enum class DeltaUnit { kFrames, kMetres, kSeconds };
 std::optional<DeltaUnit> ParseDeltaUnit(const std::string& name);  // f|frames, m|metres, s|seconds
@@ -85,7 +111,82 @@ struct RpeDeltaResult {
 
 // RPE of the pairs (with the estimate already scaled by alignment.scale when Sim3, as evo does).
 // nullopt when the delta selects no pair.
-std::optional<RpeDeltaResult> ComputeRpeEvo(const std::vector<PosePair>& pairs,
-                                            const RpeDelta& delta);
+// keep_series false leaves t_ns and errors empty (the statistics alone).
+std::optional<RpeDeltaResult> ComputeRpeEvo(const PairedPoses& pairs, const RpeDelta& delta,
+                                            bool keep_series = true);
+
+// ---- template definitions -----------------------------------------------------------------------
+
+// evo's PE.get_statistic: rmse = sqrt(mean(e^2)), sse = sum(e^2), numpy mean/median/std
+// (population, two-pass)/min/max; numpy.median: the middle value, or the mean of the two middle
+// values for an even count.
+template <typename F>
+std::pair<ErrorStatistics, ErrorStatistics> ComputeStatisticsWithImage(std::vector<double>&& errors,
+                                                                       F f) {
+  ErrorStatistics s, t;
+  s.count = t.count = errors.size();
+  if (errors.empty()) return {s, t};
+  double sum = 0.0, sum_sq = 0.0, sum_f = 0.0, sum_sq_f = 0.0;
+  for (double e : errors) {
+    const double fe = f(e);
+    sum += e;
+    sum_sq += e * e;
+    sum_f += fe;
+    sum_sq_f += fe * fe;
+  }
+  const double n = static_cast<double>(errors.size());
+  s.mean = sum / n;
+  s.sse = sum_sq;
+  s.rmse = std::sqrt(sum_sq / n);
+  t.mean = sum_f / n;
+  t.sse = sum_sq_f;
+  t.rmse = std::sqrt(sum_sq_f / n);
+  double sum_dev_sq = 0.0, sum_dev_sq_f = 0.0;
+  for (double e : errors) {
+    const double fe = f(e);
+    sum_dev_sq += (e - s.mean) * (e - s.mean);
+    sum_dev_sq_f += (fe - t.mean) * (fe - t.mean);
+  }
+  s.std = std::sqrt(sum_dev_sq / n);
+  t.std = std::sqrt(sum_dev_sq_f / n);
+  s.min = *std::min_element(errors.begin(), errors.end());
+  s.max = *std::max_element(errors.begin(), errors.end());
+  t.min = f(s.min);
+  t.max = f(s.max);
+  const size_t m = errors.size() / 2;
+  std::nth_element(errors.begin(), errors.begin() + m, errors.end());
+  const double upper = errors[m];
+  s.median = upper;
+  t.median = f(upper);
+  if (errors.size() % 2 == 0) {
+    const double lower = *std::max_element(errors.begin(), errors.begin() + m);
+    s.median = 0.5 * (lower + upper);
+    t.median = 0.5 * (f(lower) + f(upper));
+  }
+  return {s, t};
+}
+
+template <typename Produce>
+PoseErrorStatistics StatisticsInTwoPasses(size_t count, const Produce& produce) {
+  PoseErrorStatistics out;
+  std::vector<double> a, b;
+  a.reserve(count);
+  b.reserve(count);
+  produce([&a, &b](const PoseErrorValues& e) {
+    a.push_back(e.translation_m);
+    b.push_back(e.rotation_deg);
+  });
+  out.translation_m = ComputeStatistics(std::move(a));
+  out.rotation_deg = ComputeStatistics(std::move(b));
+  a.clear();  // the capacity serves the second pass
+  b.clear();
+  produce([&a, &b](const PoseErrorValues& e) {
+    a.push_back(e.rotation_part);
+    b.push_back(e.full);
+  });
+  out.rotation_part = ComputeStatistics(std::move(a));
+  out.full = ComputeStatistics(std::move(b));
+  return out;
+}
 
 }  // namespace mavloc

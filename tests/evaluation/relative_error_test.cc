@@ -120,8 +120,8 @@ TEST(RelativeError, EntryPointUsesDefaultLengthsOfTheTruthPath) {
 }
 
 // A long trajectory (60,000 pairs: relative errors on a second thread) evaluated keeping every
-// segment and keeping only their statistics: the same counts and statistics, bit for bit, and the
-// serial path's per-length errors on the same aligned pairs.
+// segment and per-pair error and keeping only their statistics: the same counts and statistics
+// (relative errors, APE, RPE), bit for bit.
 TEST(RelativeError, StatisticsAloneMatchTheKeptSegments) {
   std::vector<StampedPose> gt, est;
   for (int i = 0; i < 60'000; ++i) {
@@ -135,7 +135,7 @@ TEST(RelativeError, StatisticsAloneMatchTheKeptSegments) {
   }
   EvaluationProtocol kept;
   EvaluationProtocol statistics = kept;
-  statistics.keep_relative_segments = false;
+  statistics.keep_series = false;
   const auto a = EvaluateTrajectory(est, gt, kept);
   const auto b = EvaluateTrajectory(est, gt, statistics);
   ASSERT_TRUE(a.has_value() && b.has_value());
@@ -154,6 +154,21 @@ TEST(RelativeError, StatisticsAloneMatchTheKeptSegments) {
     EXPECT_EQ(alone.tilt_deg_stats.max, full.tilt_deg_stats.max);
     EXPECT_EQ(ComputeStatistics(full.yaw_deg).median, full.yaw_deg_stats.median);
   }
+  EXPECT_EQ(a->ape.translation_m.size(), a->pair_count);
+  EXPECT_TRUE(b->ape.translation_m.empty() && b->pair_t_ns.empty());
+  for (const auto& [x, y] :
+       {std::pair(a->ape_translation_m, b->ape_translation_m),
+        std::pair(a->ape_rotation_deg, b->ape_rotation_deg), std::pair(a->ape_full, b->ape_full)}) {
+    EXPECT_EQ(x.rmse, y.rmse);
+    EXPECT_EQ(x.median, y.median);
+    EXPECT_EQ(x.std, y.std);
+  }
+  ASSERT_EQ(a->rpe.size(), 1u);
+  ASSERT_EQ(b->rpe.size(), 1u);
+  EXPECT_EQ(a->rpe[0].errors.size(), a->pair_count - 1);
+  EXPECT_TRUE(b->rpe[0].errors.empty() && b->rpe[0].t_ns.empty());
+  EXPECT_EQ(a->rpe[0].translation_m.median, b->rpe[0].translation_m.median);
+  EXPECT_EQ(a->rpe[0].rotation_deg.rmse, b->rpe[0].rotation_deg.rmse);
 }
 
 }  // namespace
