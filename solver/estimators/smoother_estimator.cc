@@ -296,6 +296,12 @@ constexpr double kDefaultGrowWindowS = 3.0;
 constexpr double kBytesPerVisualResidual = 1000.0;
 constexpr double kBytesPerKeyframe = 12000.0;
 constexpr double kDefaultMemoryBudgetMiB = 1024.0;
+// Once a log needs windows, each window's problem is sized at this share of the budget: beside it
+// the process holds what grows with the log (the dataset, the seeds, the estimate, and afterwards
+// the Cramer-Rao bound's per-keyframe blocks). On an hour of mav-figure-eight a quarter keeps the
+// whole `compare` under the budget (0.8 GB of 1 GB, docs/performance.md); windows filling the whole
+// budget (985 s) took 1.6 GB.
+constexpr double kWindowShareOfBudget = 0.25;
 constexpr double kDefaultWindowOverlapS = 5.0;
 constexpr double kMinWindowS = 30.0;
 
@@ -672,17 +678,18 @@ std::optional<SmootherWindowOptions> SmootherEstimator::WindowsFor(
           batch_mib, budget_mib, unsupported));
       return std::nullopt;
     }
-    // The longest windows whose problem fits the budget.
-    windows.window_s =
-        std::max({kMinWindowS, 4.0 * windows.overlap_s, span_s * budget_mib / batch_mib});
+    // Windows whose problem fits the window's share of the budget.
+    windows.window_s = std::max({kMinWindowS, 4.0 * windows.overlap_s,
+                                 span_s * kWindowShareOfBudget * budget_mib / batch_mib});
   }
   const int count = static_cast<int>(std::ceil(std::max(span_s - windows.overlap_s, 0.0) /
                                                (windows.window_s - windows.overlap_s)));
   estimate->events.push_back(fmt::format(
       "solved in {} windows of {:g} s overlapping by {:g} s, each starting from the previous "
       "one's marginal prior (the batch of {:.0f} s would take about {:.0f} MiB; "
-      "memory_budget_mib={:.0f})",
-      std::max(count, 1), windows.window_s, windows.overlap_s, span_s, batch_mib, budget_mib));
+      "memory_budget_mib={:.0f}{})",
+      std::max(count, 1), windows.window_s, windows.overlap_s, span_s, batch_mib, budget_mib,
+      options_.GetDouble("window_s", 0.0) > 0.0 ? "" : ", a quarter of it per window"));
   return windows;
 }
 

@@ -57,7 +57,7 @@
 // Long logs (solver/smoother/smoother_windows.h):
 //   memory_budget_mib    the batch problem's estimated memory above which the keyframes are solved
 //                        in overlapping windows, each starting from the previous one's marginal
-//                        prior, as long as the budget allows (1024)
+//                        prior, each window's problem a quarter of the budget (1024)
 //   window_s             > 0: always solve in windows of this length (0: by the budget)
 //   window_overlap_s     the later measurements each kept keyframe has behind it (5)
 // Windows are refused for what a keyframe prior cannot carry (estimated landmarks, a laser plane,
