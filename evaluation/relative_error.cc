@@ -138,17 +138,4 @@ RelativeErrorAtLength ComputeRelativeError(const PairedPoses& pairs,
   return r;
 }
 
-RelativeErrorAtLength RelativeErrorStatistics(const RelativeErrorAtLength& full) {
-  RelativeErrorAtLength r;
-  r.length_m = full.length_m;
-  r.segments = full.segments;
-  r.translation_m_stats = full.translation_m_stats;
-  r.translation_percent_stats = full.translation_percent_stats;
-  r.rotation_deg_stats = full.rotation_deg_stats;
-  r.rotation_deg_per_m_stats = full.rotation_deg_per_m_stats;
-  r.yaw_deg_stats = full.yaw_deg_stats;
-  r.tilt_deg_stats = full.tilt_deg_stats;
-  return r;
-}
-
 }  // namespace mavloc

@@ -73,14 +73,11 @@ std::vector<long> SegmentEndIndices(const std::vector<double>& distances, double
 // R_raw_aligned: the rotation from the frame of the pairs' estimate to the estimate's own world,
 // in which rpg expresses E_w (yaw and tilt depend on it; the other values do not): the transpose
 // of the alignment's rotation when the pairs hold the aligned estimate, identity for raw ones.
-// keep_segments false keeps the count and the statistics alone (as RelativeErrorStatistics),
+// keep_segments false keeps the length, the segment count and the statistics alone,
 // each series released once its statistics are taken.
 RelativeErrorAtLength ComputeRelativeError(
     const PairedPoses& pairs, const std::vector<double>& distances, double length_m,
     double max_length_diff_fraction = 0.2, double scale = 1.0,
     const Eigen::Matrix3d& R_raw_aligned = Eigen::Matrix3d::Identity(), bool keep_segments = true);
-
-// The same without the per-segment values: the length, the segment count and the statistics.
-RelativeErrorAtLength RelativeErrorStatistics(const RelativeErrorAtLength& full);
 
 }  // namespace mavloc
