@@ -24,7 +24,6 @@
 #include "cli/output_folder.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
-#include "core/heap_release.h"
 #include "datasets/io/log_reader.h"
 #include "datasets/io/trajectory_formats/trajectory_format.h"
 #include "evaluation/eval/eval_report.h"
@@ -276,7 +275,6 @@ void Run(const Args& a) {
   const bool writes_report = out.has_value() || !a.json.empty();
   protocol.keep_series = writes_report;
   auto [truth, inputs] = ReadTruthAndInputs(a, &notes);
-  ReleaseFreeHeapPages();  // what the readers freed (line numbers, buffers) before evaluating
   EvalReport report;
   report.truth = truth.report;
   report.relative_lengths_given = !protocol.relative_lengths_m.empty();

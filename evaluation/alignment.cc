@@ -108,7 +108,11 @@ Similarity AlignOrigin(const Pose& T_W_B_est0, const Pose& T_W_B_gt0) {
 }
 
 Pose ApplySimilarity(const Similarity& S, const Pose& T_W_B) {
-  return Pose(Eigen::Quaterniond(S.R) * T_W_B.q, S.Apply(T_W_B.p));
+  return ApplySimilarity(S, Eigen::Quaterniond(S.R), T_W_B);
+}
+
+Pose ApplySimilarity(const Similarity& S, const Eigen::Quaterniond& q_S, const Pose& T_W_B) {
+  return Pose(q_S * T_W_B.q, S.Apply(T_W_B.p));
 }
 
 }  // namespace mavloc

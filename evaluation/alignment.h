@@ -53,5 +53,7 @@ Similarity AlignOrigin(const Pose& T_W_B_est0, const Pose& T_W_B_gt0);
 
 // S * T: the estimate's pose mapped by the alignment (p' = s R p + t, R' = R R_est).
 Pose ApplySimilarity(const Similarity& S, const Pose& T_W_B);
+// The same with q_S = Quaternion(S.R) computed once by the caller (for many poses).
+Pose ApplySimilarity(const Similarity& S, const Eigen::Quaterniond& q_S, const Pose& T_W_B);
 
 }  // namespace mavloc

@@ -47,22 +47,24 @@ Pose PairedPoses::TruthPose(size_t i) const {
   const size_t g = truth_index_[i];
   const double a = InterpolationWeight(i);
   if (a == 0.0) return (*truth_)[g].T_W_B;
-  const Pose& A = (*truth_)[g].T_W_B;
-  const Pose& B = (*truth_)[g + 1].T_W_B;
-  return Pose(A.q.slerp(a, B.q).normalized(), (1.0 - a) * A.p + a * B.p);
+  const Eigen::Quaterniond& q_low = (*truth_)[g].T_W_B.q;
+  return Pose(q_low.slerp(a, (*truth_)[g + 1].T_W_B.q).normalized(), Lerp(g, a));
 }
 
 Eigen::Vector3d PairedPoses::p_gt(size_t i) const {
   if (!indexed()) return whole_[i].T_W_B_gt.p;
   const size_t g = truth_index_[i];
   const double a = InterpolationWeight(i);
-  if (a == 0.0) return (*truth_)[g].T_W_B.p;
+  return a == 0.0 ? (*truth_)[g].T_W_B.p : Lerp(g, a);
+}
+
+Eigen::Vector3d PairedPoses::Lerp(size_t g, double a) const {
   return (1.0 - a) * (*truth_)[g].T_W_B.p + a * (*truth_)[g + 1].T_W_B.p;
 }
 
 Pose PairedPoses::MapEstimate(const Pose& T_W_B_est) const {
   if (!aligned_) return T_W_B_est;
-  return Pose(q_S_ * T_W_B_est.q, S_.Apply(T_W_B_est.p));  // ApplySimilarity(S_, T_W_B_est)
+  return ApplySimilarity(S_, q_S_, T_W_B_est);
 }
 
 PosePair PairedPoses::operator[](size_t i) const {

@@ -90,6 +90,8 @@ class PairedPoses {
   // Interpolated mode: the truth's lower node of pair i and the weight of the upper one (0 when
   // the stamps are equal).
   double InterpolationWeight(size_t i) const;
+  // (1 - a) p_g + a p_(g+1) of the truth.
+  Eigen::Vector3d Lerp(size_t g, double a) const;
   Pose MapEstimate(const Pose& T_W_B_est) const;
 
   std::vector<PosePair> whole_;

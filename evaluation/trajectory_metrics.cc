@@ -202,32 +202,27 @@ std::optional<RpeDeltaResult> ComputeRpeEvo(const PairedPoses& pairs, const RpeD
   };
   RpeDeltaResult result;
   result.delta = delta;
-  if (!keep_series) {
-    const PoseErrorStatistics statistics = StatisticsInTwoPasses(count, [&](const auto& sink) {
-      for_each_pair([&](size_t i, size_t j) { sink(rpe_error(read(i), j)); });
+  if (keep_series) {
+    result.t_ns.reserve(count);
+    result.errors.reserve(count);
+    for_each_pair([&](size_t i, size_t j) {
+      const PosePair pair_i = read(i);
+      result.t_ns.push_back(pair_i.t_ns);
+      result.errors.push_back(rpe_error(pair_i, j));
     });
-    result.translation_m = statistics.translation_m;
-    result.rotation_deg = statistics.rotation_deg;
-    result.rotation_part = statistics.rotation_part;
-    result.full = statistics.full;
-    return result;
   }
-  result.t_ns.reserve(count);
-  result.errors.reserve(count);
-  for_each_pair([&](size_t i, size_t j) {
-    const PosePair pair_i = read(i);
-    result.t_ns.push_back(pair_i.t_ns);
-    result.errors.push_back(rpe_error(pair_i, j));
+  // From the kept errors, or computed again in each of the two passes.
+  const PoseErrorStatistics statistics = StatisticsInTwoPasses(count, [&](const auto& sink) {
+    if (keep_series) {
+      for (const PoseErrorValues& e : result.errors) sink(e);
+    } else {
+      for_each_pair([&](size_t i, size_t j) { sink(rpe_error(read(i), j)); });
+    }
   });
-  std::vector<double> values(count);
-  const auto statistics = [&](double PoseErrorValues::*member) {
-    for (size_t k = 0; k < count; ++k) values[k] = result.errors[k].*member;
-    return ComputeStatistics(std::move(values));
-  };
-  result.translation_m = statistics(&PoseErrorValues::translation_m);
-  result.rotation_deg = statistics(&PoseErrorValues::rotation_deg);
-  result.rotation_part = statistics(&PoseErrorValues::rotation_part);
-  result.full = statistics(&PoseErrorValues::full);
+  result.translation_m = statistics.translation_m;
+  result.rotation_deg = statistics.rotation_deg;
+  result.rotation_part = statistics.rotation_part;
+  result.full = statistics.full;
   return result;
 }
 

@@ -665,7 +665,8 @@ std::optional<SmootherWindowOptions> SmootherEstimator::WindowsFor(
       BatchMebibytes(static_cast<double>(keyframes.size()), VisualResidualCount(dataset));
   const std::string unsupported = WindowsUnsupportedReason(dataset, problem_options);
   windows.window_s = options_.GetDouble("window_s", 0.0);
-  if (windows.window_s > 0.0) {
+  const bool by_budget = !(windows.window_s > 0.0);
+  if (!by_budget) {
     if (!unsupported.empty())
       throw InputError("smoother: window_s is set, but the problem cannot be solved in windows: " +
                        unsupported);
@@ -689,7 +690,7 @@ std::optional<SmootherWindowOptions> SmootherEstimator::WindowsFor(
       "one's marginal prior (the batch of {:.0f} s would take about {:.0f} MiB; "
       "memory_budget_mib={:.0f}{})",
       std::max(count, 1), windows.window_s, windows.overlap_s, span_s, batch_mib, budget_mib,
-      options_.GetDouble("window_s", 0.0) > 0.0 ? "" : ", a quarter of it per window"));
+      by_budget ? ", a quarter of it per window" : ""));
   return windows;
 }
 
