@@ -278,6 +278,18 @@ void RefitImuNoise(const Dataset& dataset, const SmootherProblemOptions& options
       scale, rounds + 1, fit.chi2, fit.redundancy, fit.residuals));
 }
 
+// An estimate whose last solve stopped at max_iterations says so: it is not at the optimum, and its
+// numbers move with the arithmetic's rounding (an analytic instead of an automatic Jacobian,
+// another compiler) by up to the size of the steps it was still taking.
+void NoteUnconverged(const SmootherResult& result, int max_iterations, Estimate* estimate) {
+  if (!result.usable || result.statistics.converged) return;
+  estimate->events.push_back(fmt::format(
+      "the smoother's last solve stopped at max_iterations={} before converging (its last "
+      "iteration still lowered the cost by {:.1e} of itself): the estimate is not at the optimum "
+      "and its numbers move with the arithmetic's rounding; a larger max_iterations lets it go on",
+      max_iterations, result.statistics.last_relative_cost_change));
+}
+
 // Whether a solution's cost is plausible for its residuals: twice the cost (the sum of squared
 // whitened residuals) within kPlausibleCostFactor times the number of residual dimensions (15 per
 // IMU factor: preintegration and bias walk; 2 per visual residual), whose expectation it would be
@@ -650,6 +662,7 @@ Estimate SmootherEstimator::RunFromLaserModes(const Dataset& dataset,
     const LaserQuantities q = QuantitiesFromModes(modes.m, modes.xi_sign, kGravityMagnitude);
     estimate.quantities.Append(kf.t_ns, {q.d_m, q.v_o_m_s, q.roll_rad, q.pitch_rad, q.alpha_rad});
   }
+  NoteUnconverged(result, problem_options.max_iterations, &estimate);
   return estimate;
 }
 
@@ -825,6 +838,7 @@ Estimate SmootherEstimator::RunFromSeedPoses(const Dataset& dataset,
       estimate.covariances.push_back({kf.t_ns, J * *result.pose_covariances[k] * J.transpose()});
     }
   }
+  NoteUnconverged(result, problem_options.max_iterations, &estimate);
   return estimate;
 }
 

@@ -578,6 +578,10 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
     st.jacobian_evaluation_s += summary.jacobian_evaluation_time_in_seconds;
     st.num_parameters = summary.num_effective_parameters;
     st.linear_solver = LinearSolverDescription(solver_options);
+    st.converged = summary.termination_type == ceres::CONVERGENCE;
+    st.last_relative_cost_change = summary.iterations.empty() || !(summary.final_cost > 0.0)
+                                       ? 0.0
+                                       : summary.iterations.back().cost_change / summary.final_cost;
     st.ceres_brief_report = summary.BriefReport();
     st.ceres_full_report = summary.FullReport();
     result.usable = summary.IsSolutionUsable();

@@ -154,6 +154,13 @@ struct SmootherStatistics {
   double covariance_min_relative_pivot = 0.0;
   double initial_cost = 0.0;
   double final_cost = 0.0;
+  // Whether the last Ceres solve of this result stopped on its tolerances (for windows: every
+  // window's did) rather than at max_iterations, and the relative cost decrease of that solve's
+  // last iteration. A solution that did not converge is not at the optimum: its numbers move with
+  // the arithmetic's rounding (another Jacobian, compiler or machine). AddStatistics leaves both
+  // to the result they are added to.
+  bool converged = true;
+  double last_relative_cost_change = 0.0;
   std::string linear_solver;
   std::string ceres_brief_report;
   std::string ceres_full_report;

@@ -113,6 +113,11 @@ SmootherResult SolveSmootherInWindows(const Dataset& dataset,
         fmt::format("window {} ({:.3f}-{:.3f} s)", result.statistics.windows + 1,
                     NsToSeconds(seeds[a].t_ns), NsToSeconds(seeds[b].t_ns));
     AddStatistics(w.statistics, &result.statistics);
+    if (!w.statistics.converged) {
+      result.statistics.converged = false;
+      result.statistics.last_relative_cost_change = std::max(
+          result.statistics.last_relative_cost_change, w.statistics.last_relative_cost_change);
+    }
     result.statistics.windows += 1;
     result.statistics.num_imu_factors += w.statistics.num_imu_factors;
     result.statistics.num_visual_residuals += w.statistics.num_visual_residuals;

@@ -278,6 +278,29 @@ TEST(SmootherJacobians, AnalyticAndAutodiffGiveTheSameSolution) {
               largest_rad);
 }
 
+// A solve cut short by max_iterations is named in the estimate's events (its numbers are not at the
+// optimum); a converged one is not.
+TEST(SmootherConvergence, AnEstimateFromAnUnconvergedSolveSaysSo) {
+  if (!FindScenario("tag-arena-dynamic") || !FindEstimator("tag-pnp"))
+    GTEST_SKIP() << "tag-arena-dynamic or tag-pnp not available";
+  const Dataset dataset = Simulate("tag-arena-dynamic", 3, 8.0, {});
+  const std::vector<StampedPose> seed =
+      SeedPoses(FindEstimator("tag-pnp")->create(EstimatorOptions())->Run(dataset));
+  const auto names_unconverged = [](const Estimate& estimate) {
+    for (const std::string& event : estimate.events)
+      if (event.find("before converging") != std::string::npos) return event;
+    return std::string();
+  };
+  const Estimate converged = SmootherEstimator(Options({})).RunFromSeedPoses(dataset, seed);
+  ASSERT_FALSE(converged.poses.empty());
+  EXPECT_EQ(names_unconverged(converged), "");
+  const Estimate cut =
+      SmootherEstimator(Options({{"max_iterations", "2"}})).RunFromSeedPoses(dataset, seed);
+  ASSERT_FALSE(cut.poses.empty());
+  EXPECT_NE(names_unconverged(cut).find("max_iterations=2 before converging"), std::string::npos)
+      << names_unconverged(cut);
+}
+
 // Three-point world (D given, as to the closed-form solvers): the smoother's position beats both
 // closed-form solvers it can be seeded with.
 TEST(SmootherNoisy, MoreAccurateThanClosedFormOnThreePoint) {
