@@ -12,7 +12,7 @@ files with np.loadtxt, associates, aligns and prints the APE translation RMSE, a
 `mavloc eval --gt GT --est EST --align se3` reports it.
 
 Usage: /usr/bin/python3 benchmarks/numpy_ate_yardstick.py [se3|posyaw] [repeats]
-       /usr/bin/python3 benchmarks/numpy_ate_yardstick.py write DIR
+       /usr/bin/python3 benchmarks/numpy_ate_yardstick.py write DIR [N_TRUTH (estimate: half)]
        /usr/bin/python3 benchmarks/numpy_ate_yardstick.py read GT EST [se3|posyaw]
 Peak memory: /usr/bin/time -v /usr/bin/python3 benchmarks/numpy_ate_yardstick.py se3
 Needs Debian's python3-numpy.
@@ -30,10 +30,10 @@ def truth_positions(t):
     return np.stack([20.0 * np.cos(0.05 * t), 15.0 * np.sin(0.07 * t), 2.0 + np.sin(0.3 * t)], axis=1)
 
 
-def make_data():
-    t_gt_ns = np.arange(N_TRUTH, dtype=np.int64) * 1_000_000
+def make_data(n_truth=N_TRUTH, n_est=N_EST):
+    t_gt_ns = np.arange(n_truth, dtype=np.int64) * 1_000_000
     p_gt = truth_positions(t_gt_ns * 1e-9)
-    t_est_ns = np.arange(N_EST, dtype=np.int64) * 2_000_000 + 300_000
+    t_est_ns = np.arange(n_est, dtype=np.int64) * 2_000_000 + 300_000
     t = t_est_ns * 1e-9
     wobble = np.stack([0.01 * np.sin(3 * t), 0.01 * np.cos(2 * t), 0.005 * np.sin(5 * t)], axis=1)
     c, s = np.cos(0.01), np.sin(0.01)
@@ -98,11 +98,24 @@ def write_tum(path, t_ns, p, q_xyzw):
         out.write("\n")
 
 
-def write_files(folder):
-    t_gt_ns, p_gt, t_est_ns, p_est = make_data()
-    write_tum(f"{folder}/truth_1M.txt", t_gt_ns, p_gt, yaw_quaternions_xyzw(0.05 * t_gt_ns * 1e-9))
-    write_tum(f"{folder}/est_500k.txt", t_est_ns, p_est,
-              yaw_quaternions_xyzw(0.05 * t_est_ns * 1e-9 + 0.01))
+def count_label(n):
+    """1000000 -> "1M", 500000 -> "500k", 1234 -> "1234"."""
+    if n % 1_000_000 == 0:
+        return f"{n // 1_000_000}M"
+    return f"{n // 1000}k" if n % 1000 == 0 else str(n)
+
+
+def write_files(folder, n_truth=N_TRUTH):
+    """Writes DIR/truth_<n>.txt and DIR/est_<n/2>.txt (truth_1M.txt and est_500k.txt by default) and
+    prints their paths."""
+    n_est = n_truth // 2
+    t_gt_ns, p_gt, t_est_ns, p_est = make_data(n_truth, n_est)
+    gt_path = f"{folder}/truth_{count_label(n_truth)}.txt"
+    est_path = f"{folder}/est_{count_label(n_est)}.txt"
+    write_tum(gt_path, t_gt_ns, p_gt, yaw_quaternions_xyzw(0.05 * t_gt_ns * 1e-9))
+    write_tum(est_path, t_est_ns, p_est, yaw_quaternions_xyzw(0.05 * t_est_ns * 1e-9 + 0.01))
+    print(gt_path)
+    print(est_path)
 
 
 def read_and_evaluate(gt_path, est_path, mode):
@@ -118,7 +131,7 @@ def read_and_evaluate(gt_path, est_path, mode):
     e = np.linalg.norm(x @ r.T + t - y, axis=1)
     rmse = np.sqrt(np.mean(e * e))
     print(f"numpy {np.__version__} {mode}: {len(e)} of {len(est)} poses associated, APE translation "
-          f"rmse {rmse:.6f} m (read {read_s:.2f} s, total {time.perf_counter() - start:.2f} s)")
+          f"rmse {rmse:.17g} m (read {read_s:.2f} s, total {time.perf_counter() - start:.2f} s)")
 
 
 def associate_seconds(t_gt_s, t_est_s, max_dt_s):
@@ -135,7 +148,7 @@ def associate_seconds(t_gt_s, t_est_s, max_dt_s):
 
 def main():
     if len(sys.argv) > 2 and sys.argv[1] == "write":
-        write_files(sys.argv[2])
+        write_files(sys.argv[2], int(sys.argv[3]) if len(sys.argv) > 3 else N_TRUTH)
         return
     if len(sys.argv) > 3 and sys.argv[1] == "read":
         read_and_evaluate(sys.argv[2], sys.argv[3], sys.argv[4] if len(sys.argv) > 4 else "se3")
