@@ -127,7 +127,8 @@ def main():
         if element > args.rtol:
             print(f"{'OVER ' if over else 'ok   '}{path}: {a!r} -> {b!r} "
                   f"(elementwise {element:.2g}, within its statistics {group:.2g})")
-    print(f"{len(numbers)} numbers, {len(texts)} texts differ; largest relative difference elementwise {worst_element:.2g}, "
+    print(f"{len(numbers)} numbers, {len(texts)} texts differ; largest relative difference "
+          f"elementwise {worst_element:.2g}, "
           f"within statistics {worst_group:.2g} (rtol {args.rtol:g})")
     return 1 if failed else 0
 
