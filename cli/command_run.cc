@@ -77,6 +77,10 @@ void RegisterRun(CLI::App& app, int* exit_code) {
     std::printf("%s: %zu states in %.3f s, %d frames without solution; wrote %s\n",
                 args->estimator.c_str(), estimate.quantities.size(), seconds,
                 estimate.FailureCount(), args->out.c_str());
+    // What the estimator noted about its run (windows, a fitted noise scale, a solve that did not
+    // converge): the warnings a report shows beside its numbers.
+    for (const std::string& event : estimate.events)
+      std::fprintf(stderr, "%s: %s\n", args->estimator.c_str(), event.c_str());
     *exit_code = 0;
   });
 }

@@ -284,7 +284,7 @@ void RefitImuNoise(const Dataset& dataset, const SmootherProblemOptions& options
 void NoteUnconverged(const SmootherResult& result, int max_iterations, Estimate* estimate) {
   if (!result.usable || result.statistics.converged) return;
   estimate->events.push_back(fmt::format(
-      "the smoother's last solve stopped at max_iterations={} before converging (its last "
+      "the last solve stopped at max_iterations={} before converging (its last "
       "iteration still lowered the cost by {:.1e} of itself): the estimate is not at the optimum "
       "and its numbers move with the arithmetic's rounding; a larger max_iterations lets it go on",
       max_iterations, result.statistics.last_relative_cost_change));
