@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 #include "core/random.h"
@@ -253,12 +255,18 @@ TEST(SmootherNoisy, MoreAccurateThanSeedAndFilterOnTagArena) {
 
 // The analytic Jacobians of the IMU and map-point factors against their autodiff reference
 // (autodiff_jacobians=1) on a noisy tag arena: the same solution to rounding.
+// 8 s of tag-arena-dynamic (seed 3) and tag-pnp's poses on it, the smoother's seed.
+std::pair<Dataset, std::vector<StampedPose>> ShortDynamicFlightWithTagPnpSeed() {
+  Dataset dataset = Simulate("tag-arena-dynamic", 3, 8.0, {});
+  std::vector<StampedPose> seed =
+      SeedPoses(FindEstimator("tag-pnp")->create(EstimatorOptions())->Run(dataset));
+  return {std::move(dataset), std::move(seed)};
+}
+
 TEST(SmootherJacobians, AnalyticAndAutodiffGiveTheSameSolution) {
   if (!FindScenario("tag-arena-dynamic") || !FindEstimator("tag-pnp"))
     GTEST_SKIP() << "tag-arena-dynamic or tag-pnp not available";
-  const Dataset dataset = Simulate("tag-arena-dynamic", 3, 8.0, {});
-  const std::vector<StampedPose> seed =
-      SeedPoses(FindEstimator("tag-pnp")->create(EstimatorOptions())->Run(dataset));
+  const auto [dataset, seed] = ShortDynamicFlightWithTagPnpSeed();
   const Estimate analytic = SmootherEstimator(Options({})).RunFromSeedPoses(dataset, seed);
   const Estimate autodiff =
       SmootherEstimator(Options({{"autodiff_jacobians", "1"}})).RunFromSeedPoses(dataset, seed);
@@ -283,9 +291,7 @@ TEST(SmootherJacobians, AnalyticAndAutodiffGiveTheSameSolution) {
 TEST(SmootherConvergence, AnEstimateFromAnUnconvergedSolveSaysSo) {
   if (!FindScenario("tag-arena-dynamic") || !FindEstimator("tag-pnp"))
     GTEST_SKIP() << "tag-arena-dynamic or tag-pnp not available";
-  const Dataset dataset = Simulate("tag-arena-dynamic", 3, 8.0, {});
-  const std::vector<StampedPose> seed =
-      SeedPoses(FindEstimator("tag-pnp")->create(EstimatorOptions())->Run(dataset));
+  const auto [dataset, seed] = ShortDynamicFlightWithTagPnpSeed();
   const auto names_unconverged = [](const Estimate& estimate) {
     for (const std::string& event : estimate.events)
       if (event.find("before converging") != std::string::npos) return event;
