@@ -22,6 +22,7 @@
 #include "evaluation/comparison.h"
 #include "evaluation/comparison_report.h"
 #include "evaluation/crlb/crlb_report.h"
+#include "evaluation/feature_frontend.h"
 #include "evaluation/report/report_folder.h"
 #include "evaluation/report/report_markdown.h"
 #include "evaluation/report_figures.h"
@@ -144,6 +145,15 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       dataset = SimulateScenario(args->scenario.empty() ? DefaultScenarioName() : args->scenario,
                                  options);
     }
+    // An image log without a feature stream: the smoother's visual residuals from tracked features.
+    std::optional<FeatureFrontendRun> frontend;
+    if (NeedsFeatureTracks(dataset, names)) {
+      ReportProgress("compare", "tracking features in the images");
+      frontend = AddFeatureTracks(&dataset, FeatureTrackingSettings{});
+      std::printf("%s\n", frontend->note.c_str());
+      for (const auto& warning : frontend->result.warnings)
+        std::printf("warning: feature frontend: %s\n", warning.c_str());
+    }
     if (args->reference.empty() && dataset.ground_truth.empty() && dataset.truth_quantities.empty())
       throw InputError(args->dataset, 0, "",
                        "dataset has no ground truth to compare against: name a reference with "
@@ -235,6 +245,7 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
 
     const std::string title = dataset.scenario.empty() ? dataset.name : dataset.scenario;
     Report model = ComparisonReport(title, dataset, evaluations, evaluation_options, left_out);
+    if (frontend) AddFeatureFrontendToReport(*frontend, &model);
     if (reference) {
       model.details["reference"] = {
           {"kind", reference->kind == ComparisonReference::Kind::kEstimator  ? "estimator"

@@ -6,9 +6,26 @@
 
 #include "cli/commands.h"
 #include "core/errors.h"
+#include "core/input_file.h"
 #include "evaluation/report_figures.h"
 
 namespace mavloc::cli {
+namespace {
+
+// A report folder holds files, folders and (planted, replaced by the figures) links: a named pipe,
+// a device or a socket where a report file is expected is refused before anything is read.
+void RefuseSpecialFiles(const std::string& folder) {
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    const auto type = entry.symlink_status().type();
+    if (type == std::filesystem::file_type::regular ||
+        type == std::filesystem::file_type::directory ||
+        type == std::filesystem::file_type::symlink)
+      continue;
+    RequireRegularFile(entry.path().string());
+  }
+}
+
+}  // namespace
 
 void RegisterFigures(CLI::App& app, int* exit_code) {
   auto* command = app.add_subcommand(
@@ -18,7 +35,8 @@ void RegisterFigures(CLI::App& app, int* exit_code) {
   auto folder = std::make_shared<std::string>();
   command->add_option("folder", *folder, "Report folder")->required();
   command->callback([folder, exit_code] {
-    if (!std::filesystem::is_directory(*folder)) throw InputError(*folder, 0, "", "not a folder");
+    RequireFolder(*folder);
+    RefuseSpecialFiles(*folder);
     if (DetectReportKind(*folder) == ReportKind::kUnknown)
       throw InputError(*folder, 0, "",
                        "no mavloc report here (no report.json or eval.json naming its "

@@ -31,8 +31,9 @@ void RegisterMatrix(CLI::App& app, int* exit_code) {
   command->add_option("--out", args->out, "Report folder (created)")->required();
   command->add_option("--align", args->align, "Alignment: none, se3, sim3 or posyaw")
       ->capture_default_str();
+  // Finite and at most an hour: CLI::PositiveNumber let "nan" through to blame a valid file.
   command->add_option("--t-max-diff", args->max_dt_s, "Association tolerance [s]")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveAtMost(3600.0, "s"))
       ->capture_default_str();
   AddSeedOption(command, &args->seed, "Seed of the bootstrap intervals");
   command->add_flag("--force", args->force, "Replace an existing --out folder (a mavloc report)");
@@ -46,6 +47,12 @@ void RegisterMatrix(CLI::App& app, int* exit_code) {
     protocol.max_dt_s = args->max_dt_s;
     const MatrixResult result = EvaluateMatrix(FindRpgLayout(args->root), protocol, args->seed);
     Report report = MatrixReport(result);
+    // Files the walk did not use are named in the report; the ones named like a run, here too.
+    for (const auto& warning : report.warnings)
+      std::fprintf(stderr, "mavloc: warning: %s\n", PrintableMessage(warning).c_str());
+    if (!result.skipped.empty())
+      std::fprintf(stderr, "mavloc: %zu file(s) not used, each with the reason: report.md\n",
+                   result.skipped.size());
     report.provenance.input = args->root;
     std::printf("%s\n", report.title.c_str());
     for (const auto& table : report.tables)

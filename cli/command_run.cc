@@ -12,6 +12,7 @@
 #include "core/text.h"
 #include "datasets/io/euroc_io.h"
 #include "datasets/io/tum_io.h"
+#include "evaluation/feature_frontend.h"
 #include "solver/estimator.h"
 
 namespace mavloc::cli {
@@ -55,7 +56,14 @@ void RegisterRun(CLI::App& app, int* exit_code) {
     const EstimatorOptions options(ParseKeyValues(args->options, "--option"));
     auto estimator = entry->create(options);
     ReportProgress("run", "reading " + args->dataset);
-    const Dataset dataset = ReadEurocDataset(args->dataset);
+    Dataset dataset = ReadEurocDataset(args->dataset);
+    if (NeedsFeatureTracks(dataset, {args->estimator})) {
+      ReportProgress("run", "tracking features in the images");
+      const FeatureFrontendRun frontend = AddFeatureTracks(&dataset, FeatureTrackingSettings{});
+      std::fprintf(stderr, "%s\n", frontend.note.c_str());
+      for (const auto& warning : frontend.result.warnings)
+        std::fprintf(stderr, "warning: feature frontend: %s\n", warning.c_str());
+    }
     const Applicability applicability = estimator->AppliesTo(dataset);
     if (!applicability.applies)
       throw InputError(args->dataset, 0, "",

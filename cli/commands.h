@@ -23,7 +23,8 @@ void RegisterImportTagslam(CLI::App& app, int* exit_code);
 void RegisterLog(CLI::App& app, int* exit_code);
 void RegisterSweep(CLI::App& app, int* exit_code);  // sweep, sweep-merge, sweep-status
 void RegisterMatrix(CLI::App& app, int* exit_code);
-void RegisterImuNoise(CLI::App& app, int* exit_code);  // cli/command_imu_noise.cc
+void RegisterImuNoise(CLI::App& app, int* exit_code);       // cli/command_imu_noise.cc
+void RegisterTrackFeatures(CLI::App& app, int* exit_code);  // cli/command_track_features.cc
 
 // Parses "key=value" items (from repeated --set / --option flags) into a map; throws InputError.
 std::map<std::string, std::string> ParseKeyValues(const std::vector<std::string>& items,

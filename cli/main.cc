@@ -7,11 +7,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <string>
 
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "core/huge_pages.h"
+#include "core/input_file.h"
 #include "core/interrupt.h"
 #include "evaluation/report/provenance.h"
 #include "evaluation/repro/repro.h"
@@ -54,6 +56,7 @@ int main(int argc, char** argv) {
   mavloc::cli::RegisterSweep(app, &exit_code);
   mavloc::cli::RegisterMatrix(app, &exit_code);
   mavloc::cli::RegisterImuNoise(app, &exit_code);
+  mavloc::cli::RegisterTrackFeatures(app, &exit_code);
   // An unknown first word is named in the message (CLI11 would only say a command is required).
   const auto subcommands = app.get_subcommands({});
   const bool known_command =
@@ -81,6 +84,11 @@ int main(int argc, char** argv) {
   } catch (const mavloc::InputError& e) {
     // One readable line whatever the input held (binary garbage, a 10 MB field).
     std::fprintf(stderr, "mavloc: error: %s\n", mavloc::PrintableMessage(e.what()).c_str());
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A path that cannot be walked (a loop of links, a folder gone mid-walk): the input's fault.
+    std::fprintf(stderr, "mavloc: error: %s\n",
+                 mavloc::PrintableMessage(mavloc::DescribeFilesystemError(e)).c_str());
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mavloc: internal error: %s\n",

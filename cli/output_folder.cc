@@ -1,6 +1,8 @@
 #include "cli/output_folder.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -68,8 +70,9 @@ StagedFolder::StagedFolder(const std::string& target, FolderKind kind, bool forc
   const fs::path parent = path.parent_path();
   if (!fs::is_directory(parent))
     throw InputError(target, 0, "", "the parent folder '" + parent.string() + "' does not exist");
+  Take(path);
   std::error_code error;
-  if (fs::exists(path)) {
+  if (!created_) {
     if (!fs::is_directory(path)) throw InputError(target, 0, "", "exists and is not a folder");
     const bool empty = fs::is_empty(path, error);
     if (!empty && kind == FolderKind::kDataset && !IsMavlocDataset(path))
@@ -100,10 +103,48 @@ StagedFolder::StagedFolder(const std::string& target, FolderKind kind, bool forc
   }
 }
 
+void StagedFolder::Take(const fs::path& path) {
+  // mkdir is atomic: of two commands creating the same new folder, one creates it. An interrupt
+  // before Commit removes the empty folder it created.
+  if (!fs::exists(fs::symlink_status(path))) {
+    placeholder_token_ = RegisterTemporaryPath(path.string());
+    created_ = ::mkdir(path.c_str(), 0777) == 0;
+    if (!created_) {
+      UnregisterTemporaryPath(placeholder_token_);
+      placeholder_token_ = 0;
+    }
+  }
+  lock_fd_ = ::open(path.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (lock_fd_ < 0) return;  // not a folder: the checks that follow say so
+  struct stat locked {
+  }, named{};
+  const bool locked_here = ::flock(lock_fd_, LOCK_EX | LOCK_NB) == 0;
+  // The lock is on the folder that was opened: the name must still be that folder.
+  const bool same = ::fstat(lock_fd_, &locked) == 0 && ::stat(path.c_str(), &named) == 0 &&
+                    locked.st_dev == named.st_dev && locked.st_ino == named.st_ino;
+  if (!locked_here || !same) {
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+    if (created_) {  // another command took it first: it is theirs now
+      UnregisterTemporaryPath(placeholder_token_);
+      placeholder_token_ = 0;
+      created_ = false;
+    }
+    throw InputError(target_, 0, "",
+                     "is being written by another mavloc command at this moment: not replaced; "
+                     "wait for it to end, or choose another folder");
+  }
+}
+
 StagedFolder::~StagedFolder() {
   std::error_code error;
   if (!committed_) fs::remove_all(staging_, error);
+  // The empty folder taken for a new target, when nothing came of it (rmdir leaves a non-empty
+  // one alone).
+  if (!committed_ && created_) ::rmdir(NormalizedTarget(target_).c_str());
+  if (placeholder_token_ != 0) UnregisterTemporaryPath(placeholder_token_);
   UnregisterTemporaryPath(interrupt_token_);
+  if (lock_fd_ >= 0) ::close(lock_fd_);
 }
 
 std::string StagedFolder::ForUser(std::string text) const {
@@ -118,33 +159,48 @@ std::string StagedFolder::ForUser(std::string text) const {
 void StagedFolder::Commit() {
   const fs::path path = NormalizedTarget(target_);
   std::error_code error;
-  if (!fs::exists(path)) {
-    fs::rename(staging_, path, error);
-    if (error) throw InputError(target_, 0, "", "cannot rename the new folder: " + error.message());
-    committed_ = true;
-    return;
-  }
-  // Exchange in one step: the target is never missing nor half old, half new.
-  if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, path.c_str(), RENAME_EXCHANGE) != 0) {
-    if (errno != EINVAL && errno != ENOSYS)
+  std::string old_content;  // removed after the exchange, with interrupts no longer held
+  {
+    // The exchange and the end of the taken folder's registration happen together: an interrupt
+    // after the exchange must not remove the new folder that now has the target's name.
+    const InterruptsHeld held;
+    if (placeholder_token_ != 0) {
+      UnregisterTemporaryPath(placeholder_token_);
+      placeholder_token_ = 0;
+    }
+    if (!fs::exists(path)) {
+      fs::rename(staging_, path, error);
+      if (error)
+        throw InputError(target_, 0, "", "cannot rename the new folder: " + error.message());
+      committed_ = true;
+      return;
+    }
+    // Exchange in one step: the target is never missing nor half old, half new. The staging path
+    // then holds the old folder (still registered: an interrupt removes it).
+    if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, path.c_str(), RENAME_EXCHANGE) == 0) {
+      committed_ = true;
+      old_content = staging_;
+    } else if (errno != EINVAL && errno != ENOSYS) {
       throw InputError(target_, 0, "",
                        std::string("cannot replace the folder: ") + std::strerror(errno));
-    const fs::path old = path.string() + ".old-" + std::to_string(::getpid());
-    const TemporaryPathGuard guard(old.string());
-    fs::rename(path, old, error);
-    if (!error) fs::rename(staging_, path, error);
-    if (error) {
-      std::error_code ignored;
-      if (!fs::exists(path)) fs::rename(old, path, ignored);
-      throw InputError(target_, 0, "", "cannot replace the folder: " + error.message());
     }
-    fs::remove_all(old, error);
-    committed_ = true;
+  }
+  if (committed_) {
+    fs::remove_all(old_content, error);
     return;
   }
-  // The staging path now holds the old folder.
-  fs::remove_all(staging_, error);
+  // A file system without the exchange: rename aside and back.
+  const fs::path old = path.string() + ".old-" + std::to_string(::getpid());
+  const TemporaryPathGuard guard(old.string());
+  fs::rename(path, old, error);
+  if (!error) fs::rename(staging_, path, error);
+  if (error) {
+    std::error_code ignored;
+    if (!fs::exists(path)) fs::rename(old, path, ignored);
+    throw InputError(target_, 0, "", "cannot replace the folder: " + error.message());
+  }
   committed_ = true;
+  fs::remove_all(old, error);
 }
 
 }  // namespace mavloc::cli

@@ -5,6 +5,7 @@
 // SIGINT/SIGTERM remove the staging folder (core/interrupt.h).
 #pragma once
 
+#include <filesystem>
 #include <string>
 
 namespace mavloc::cli {
@@ -27,7 +28,11 @@ class StagedFolder {
   // Checks the target before any work is done (throws InputError): its parent folder must exist,
   // and an existing target must be an empty folder, or, when the user asked for it (`force`,
   // the commands' --force), a folder of `kind`. No command replaces a folder it was not asked to:
-  // the message says what the folder holds and names --force. Then creates the staging folder.
+  // the message says what the folder holds and names --force. The target is taken at once: a new
+  // one is created empty (mkdir: of two commands, one creates it) and every target is locked
+  // (flock) until the object ends, so a second command writing the same folder at the same time
+  // is refused ("is being written by another mavloc command") instead of replacing the first's
+  // output. Then creates the staging folder.
   StagedFolder(const std::string& target, FolderKind kind, bool force);
   // Removes the staging folder unless Commit() succeeded.
   ~StagedFolder();
@@ -45,9 +50,15 @@ class StagedFolder {
   void Commit();
 
  private:
+  // Creates a new target empty, or locks an existing one; throws when another command holds it.
+  void Take(const std::filesystem::path& path);
+
   std::string target_;
   std::string staging_;
   long interrupt_token_ = 0;
+  long placeholder_token_ = 0;  // the empty target this object created, until Commit
+  bool created_ = false;        // this object created the target folder
+  int lock_fd_ = -1;            // the target folder, flock'ed
   bool committed_ = false;
 };
 

@@ -55,11 +55,14 @@ struct CameraSensor {
   std::vector<std::string> missing_images;  // listed in data.csv but absent on disk
 };
 
-// features0: a landmark seen at normalized (undistorted) image coordinates of cam0.
+// features0 / features1: a landmark seen at normalized (undistorted) image coordinates of cam0 /
+// cam1. A landmark id that map.yaml does not list is an unknown landmark (a feature track of
+// frontends/features/: the same id in features0 and features1 is one point seen by both cameras).
 struct FeatureObservation {
   TimeNs t_ns = 0;
   int landmark_id = 0;
   Eigen::Vector2d xy = Eigen::Vector2d::Zero();
+  int camera = 0;  // index into Dataset::cameras: 0 for features0, 1 for features1
 };
 
 // laser0: the laser spot at normalized image coordinates of cam0.
@@ -115,7 +118,8 @@ struct Dataset {
   ImuSensor imu;
   std::vector<CameraSensor> cameras;
   std::vector<GroundTruthState> ground_truth;
-  std::vector<FeatureObservation> features;
+  std::vector<FeatureObservation> features;   // features0: cam0 (camera = 0)
+  std::vector<FeatureObservation> features1;  // features1: cam1 (camera = 1), stereo tracks
   std::vector<LaserObservation> laser;
   std::vector<TagObservation> tags;   // tags0: cam0 (camera = 0)
   std::vector<TagObservation> tags1;  // tags1: cam1 (camera = 1), stereo rigs

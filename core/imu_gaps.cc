@@ -70,6 +70,7 @@ Dataset SliceDataset(const Dataset& dataset, TimeNs from_ns, TimeNs to_ns) {
   for (auto& camera : slice.cameras) camera.frames = Within(camera.frames, from_ns, to_ns);
   slice.ground_truth = Within(dataset.ground_truth, from_ns, to_ns);
   slice.features = Within(dataset.features, from_ns, to_ns);
+  slice.features1 = Within(dataset.features1, from_ns, to_ns);
   slice.laser = Within(dataset.laser, from_ns, to_ns);
   slice.tags = Within(dataset.tags, from_ns, to_ns);
   slice.tags1 = Within(dataset.tags1, from_ns, to_ns);

@@ -16,7 +16,8 @@ namespace mavloc {
 namespace {
 
 struct Registry {
-  std::mutex mutex;
+  // Recursive: a thread holding InterruptsHeld registers and unregisters paths.
+  std::recursive_mutex mutex;
   std::map<long, std::string> paths;
   long next_token = 1;
   bool interrupted = false;
@@ -72,25 +73,28 @@ void InstallInterruptHandler() {
 
 long RegisterTemporaryPath(const std::string& path) {
   Registry& registry = TheRegistry();
-  std::lock_guard<std::mutex> lock(registry.mutex);
+  std::lock_guard<std::recursive_mutex> lock(registry.mutex);
   const long token = registry.next_token++;
   registry.paths[token] = std::filesystem::absolute(path).string();
   return token;
 }
 
 bool CreateOutputDirectories(const std::filesystem::path& path, std::error_code& error) {
-  std::lock_guard<std::mutex> lock(TheRegistry().mutex);
+  std::lock_guard<std::recursive_mutex> lock(TheRegistry().mutex);
   return std::filesystem::create_directories(path, error);
 }
 
 bool CreateOutputDirectories(const std::filesystem::path& path) {
-  std::lock_guard<std::mutex> lock(TheRegistry().mutex);
+  std::lock_guard<std::recursive_mutex> lock(TheRegistry().mutex);
   return std::filesystem::create_directories(path);
 }
 
+InterruptsHeld::InterruptsHeld() { TheRegistry().mutex.lock(); }
+InterruptsHeld::~InterruptsHeld() { TheRegistry().mutex.unlock(); }
+
 void UnregisterTemporaryPath(long token) {
   Registry& registry = TheRegistry();
-  std::lock_guard<std::mutex> lock(registry.mutex);
+  std::lock_guard<std::recursive_mutex> lock(registry.mutex);
   registry.paths.erase(token);
 }
 

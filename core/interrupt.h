@@ -30,6 +30,17 @@ void UnregisterTemporaryPath(long token);
 bool CreateOutputDirectories(const std::filesystem::path& path);
 bool CreateOutputDirectories(const std::filesystem::path& path, std::error_code& error);
 
+// While an InterruptsHeld exists, an interrupt waits: its cleanup runs once the holder is gone.
+// For a few renames that must happen together (core/atomic_file.h: AtomicFileSet). The holder
+// may register and unregister paths; it must not wait for anything slow.
+class InterruptsHeld {
+ public:
+  InterruptsHeld();
+  ~InterruptsHeld();
+  InterruptsHeld(const InterruptsHeld&) = delete;
+  InterruptsHeld& operator=(const InterruptsHeld&) = delete;
+};
+
 // RAII registration of one temporary path.
 class TemporaryPathGuard {
  public:

@@ -1,7 +1,7 @@
 #include "core/text.h"
 
-#include <fstream>
-#include <iterator>
+#include "core/errors.h"
+#include "core/input_file.h"
 
 namespace mavloc {
 
@@ -24,8 +24,11 @@ std::string ShellQuote(const std::string& text) {
 }
 
 std::string ReadWholeFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  try {
+    return ReadRegularFile(path);  // a named pipe or a device reads as empty instead of blocking
+  } catch (const InputError&) {
+    return "";
+  }
 }
 
 }  // namespace mavloc

@@ -13,8 +13,8 @@ bool EndsWith(const std::string& text, const std::string& suffix);
 // POSIX shell single quoting: ' -> '\''.
 std::string ShellQuote(const std::string& text);
 
-// The whole file as bytes; empty when it cannot be read (callers that must tell the two apart
-// check the file first).
+// The whole file as bytes; empty when it cannot be read or is not a regular file (a named pipe
+// is never opened: core/input_file.h). Callers that must tell the two apart use ReadRegularFile.
 std::string ReadWholeFile(const std::string& path);
 
 }  // namespace mavloc

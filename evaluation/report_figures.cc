@@ -3,15 +3,15 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "core/input_file.h"
 #include "core/interrupt.h"
 #include "core/subprocess.h"
 #include "core/text.h"
@@ -63,31 +63,55 @@ struct ScriptRun {
   std::string out, err;
 };
 
-// Writes the embedded script to a temporary file and runs it: python SCRIPT DIR --kind KIND.
+// The files the script may read: the folder's regular files, not symbolic links (mavloc writes
+// none) nor temporaries. A named pipe among them would block the script's open(); a link could
+// point anywhere. `refused` gets each entry that is neither a file, a folder nor a link, with why.
+std::vector<std::string> ScriptInputs(const std::string& report_dir,
+                                      std::vector<std::string>* refused) {
+  std::vector<std::string> names;
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(report_dir, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.find(".tmp-") != std::string::npos) continue;
+    const fs::file_type type = entry.symlink_status(error).type();
+    if (type == fs::file_type::regular)
+      names.push_back(name);
+    else if (type != fs::file_type::directory && type != fs::file_type::symlink)
+      refused->push_back(name + " " + NotARegularFile(entry.path().string()));
+  }
+  std::sort(names.begin(), names.end());
+  std::sort(refused->begin(), refused->end());
+  return names;
+}
+
+// Writes the embedded script to a private temporary file and runs it with the file names it is
+// given: python SCRIPT DIR --kind KIND --out-dir STAGE --input NAME... The script reads only
+// DIR/NAME and writes its PNG files into STAGE (each to a temporary name, then os.replace).
 ScriptRun RunScript(const std::string& python, const std::string& report_dir,
-                    const std::string& kind) {
-  static std::atomic<int> counter{0};
-  const std::string stem =
-      "mavloc_report_figures_" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+                    const std::string& kind, const std::string& stage,
+                    const std::vector<std::string>& inputs) {
   std::error_code error;
   const fs::path tmp = fs::temp_directory_path(error);
-  const std::string script = (tmp / (stem + ".py")).string();
-  const TemporaryPathGuard script_guard(script);  // removed if interrupted (core/interrupt.h)
-  ScriptRun run;
-  {
-    std::ofstream out(script, std::ios::binary);
-    out << kReportFiguresScript;
-    if (!out) {
-      run.err = "cannot write the plotting script to " + script;
-      return run;
-    }
+  const TemporaryFile script(error ? std::string("/tmp") : tmp.string(),
+                             "mavloc_report_figures_script", ".py", kReportFiguresScript);
+  std::vector<std::string> argv = {python, script.path(), report_dir, "--kind",
+                                   kind,   "--out-dir",   stage};
+  for (const std::string& name : inputs) {
+    argv.push_back("--input");
+    argv.push_back(name);
   }
-  const ProgramRun program = RunProgram({python, script, report_dir, "--kind", kind});
+  const ProgramRun program = RunProgram(argv);
+  ScriptRun run;
   run.exit_code = program.started ? program.exit_code : 127;
   run.out = program.out;
   run.err = program.started ? program.err : program.error;
-  fs::remove(script, error);
   return run;
+}
+
+// A figure the script announces must be a plain PNG name in its folder: no path, no hidden file.
+bool IsFigureName(const std::string& name) {
+  return !name.empty() && name.size() < 256 && name.front() != '.' &&
+         name.find('/') == std::string::npos && EndsWith(name, ".png");
 }
 
 std::string MarkdownName(ReportKind) { return "report.md"; }
@@ -137,8 +161,11 @@ std::vector<std::string> DataFiles(const std::string& report_dir,
 
 // Draws the figures into `outcome` (figures, reason, how_to_get_figures).
 // The texts name `shown_dir`, the folder the user will find the report in.
+// The PNG files stay in `stage` and are added to `files`, which renames them into report_dir
+// together with report.html.
 void DrawFigures(const std::string& report_dir, const std::string& shown_dir,
-                 FigureOutcome* outcome, std::vector<HtmlFigure>* html_figures) {
+                 const std::string& stage, AtomicFileSet* files, FigureOutcome* outcome,
+                 std::vector<HtmlFigure>* html_figures) {
   const char* switch_env = std::getenv("MAVLOC_FIGURES");
   if (switch_env && (std::string(switch_env) == "0" || std::string(switch_env) == "off")) {
     outcome->reason = "figures switched off (MAVLOC_FIGURES=" + std::string(switch_env) + ")";
@@ -155,7 +182,9 @@ void DrawFigures(const std::string& report_dir, const std::string& shown_dir,
     outcome->how_to_get_figures = HowToGetFigures(shown_dir);
     return;
   }
-  const ScriptRun run = RunScript(python, report_dir, ReportKindName(outcome->kind));
+  std::vector<std::string> refused;
+  const std::vector<std::string> inputs = ScriptInputs(report_dir, &refused);
+  const ScriptRun run = RunScript(python, report_dir, ReportKindName(outcome->kind), stage, inputs);
   std::istringstream lines(run.out);
   std::string line;
   while (std::getline(lines, line)) {
@@ -163,8 +192,13 @@ void DrawFigures(const std::string& report_dir, const std::string& shown_dir,
     const auto tab = line.find('\t', 7);
     const std::string file = line.substr(7, tab == std::string::npos ? tab : tab - 7);
     const std::string caption = tab == std::string::npos ? "" : line.substr(tab + 1);
-    const std::string bytes = ReadWholeFile((fs::path(report_dir) / file).string());
+    if (!IsFigureName(file)) continue;
+    if (std::find(outcome->figures.begin(), outcome->figures.end(), file) != outcome->figures.end())
+      continue;
+    const std::string drawn = (fs::path(stage) / file).string();
+    const std::string bytes = ReadWholeFile(drawn);
     if (bytes.empty()) continue;
+    files->AddWritten(drawn, (fs::path(report_dir) / file).string());
     outcome->figures.push_back(file);
     html_figures->push_back({file, caption, bytes});
   }
@@ -180,6 +214,11 @@ void DrawFigures(const std::string& report_dir, const std::string& shown_dir,
                       "): " + LastLines(run.err, 1);
   } else if (outcome->figures.empty()) {
     outcome->reason = "nothing to plot in this " + ReportKindName(outcome->kind) + " report";
+  }
+  if (!refused.empty()) {
+    std::string list;
+    for (const std::string& entry : refused) list += (list.empty() ? "" : "; ") + entry;
+    outcome->reason += (outcome->reason.empty() ? "" : "; ") + ("not read: " + list);
   }
 }
 
@@ -233,8 +272,13 @@ FigureOutcome WriteReportFigures(const std::string& report_dir, const std::strin
   }
   outcome.kind = DetectReportKind(report_dir);
   std::vector<HtmlFigure> html_figures;
+  // The figures, report.html and the Markdown report appear together (AtomicFileSet): an
+  // interrupt leaves the old set or the new one, never new figures that the page does not list.
+  AtomicFileSet files;
+  std::unique_ptr<TemporaryFolder> stage;
   try {
-    DrawFigures(report_dir, shown, &outcome, &html_figures);
+    stage = std::make_unique<TemporaryFolder>(report_dir, ".figures");
+    DrawFigures(report_dir, shown, stage->path(), &files, &outcome, &html_figures);
   } catch (const std::exception& e) {  // e.g. temporary folder or pipe failures
     outcome.reason = std::string("figures not drawn: ") + e.what();
   }
@@ -252,13 +296,14 @@ FigureOutcome WriteReportFigures(const std::string& report_dir, const std::strin
   page.data_files = DataFiles(report_dir, outcome.figures);
   try {
     const std::string html_path = (fs::path(report_dir) / "report.html").string();
-    WriteFileAtomically(html_path, RenderReportHtml(page));
-    outcome.html_path = html_path;
+    files.Add(html_path, RenderReportHtml(page));
     if (!markdown.empty() || fs::exists(markdown_path, error)) {
       std::string with_section = markdown;
       while (!with_section.empty() && with_section.back() == '\n') with_section.pop_back();
-      WriteFileAtomically(markdown_path, with_section + "\n\n" + FiguresSection(outcome));
+      files.Add(markdown_path, with_section + "\n\n" + FiguresSection(outcome));
     }
+    files.Commit();
+    outcome.html_path = html_path;
   } catch (const std::exception& e) {
     outcome.reason +=
         std::string(outcome.reason.empty() ? "" : "; ") + "report.html not written: " + e.what();

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "core/errors.h"
+#include "core/input_file.h"
 #include "core/number_text.h"
 #include "core/physical_limits.h"
 
@@ -221,11 +222,7 @@ TimeNs StemTimestamp(const fs::path& path) {
 AprilgridCornerFrame ReadAprilgridCornerFile(const std::string& path, const AprilgridTarget& target,
                                              const AprilgridCornerFileOptions& options) {
   const TimeNs t_ns = StemTimestamp(fs::path(path));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, "", fs::exists(path) ? "cannot open file" : "does not exist");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  std::string text = buffer.str();
+  std::string text = ReadRegularFile(path);                  // a pipe, a device, a loop: refused
   if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // UTF-8 BOM, as text_table.cc
   FileParser parser(path, target, options, t_ns);
   long line_number = 0;

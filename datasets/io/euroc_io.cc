@@ -32,6 +32,7 @@ namespace {
 constexpr const char* kImu = "imu0";
 constexpr const char* kGroundTruth = "state_groundtruth_estimate0";
 constexpr const char* kFeatures = "features0";
+constexpr const char* kFeatures1 = "features1";
 constexpr const char* kLaser = "laser0";
 constexpr const char* kTags = "tags0";
 constexpr const char* kTags1 = "tags1";
@@ -232,7 +233,7 @@ void RequireNonDecreasing(const TextTable& table, const std::vector<TimeNs>& t,
 
 // Streamed row by row (an hour of features at 20 Hz is millions of rows: held as text they took
 // about ten times the memory of the observations).
-std::vector<FeatureObservation> ReadFeatures(const std::string& path,
+std::vector<FeatureObservation> ReadFeatures(const std::string& path, int camera,
                                              std::vector<long>* lines_out) {
   TextRowReader reader(path, Separator::kComma);
   TextTable columns;  // the header and path, for the messages
@@ -248,7 +249,8 @@ std::vector<FeatureObservation> ReadFeatures(const std::string& path,
     out.push_back({t_ns,
                    columns.IdText(row->fields[1], row->line, 1),
                    {columns.NumberInText(row->fields[2], row->line, 2, -max_xy, max_xy, ""),
-                    columns.NumberInText(row->fields[3], row->line, 3, -max_xy, max_xy, "")}});
+                    columns.NumberInText(row->fields[3], row->line, 3, -max_xy, max_xy, "")},
+                   camera});
     lines.push_back(row->line);
   }
   return out;
@@ -491,15 +493,15 @@ auto NamingFile(const std::string& path, Function read) {
 
 // Features must name landmarks of the map when the map lists landmarks (otherwise the smoother and
 // the landmark estimators would drop out of the comparison without a word).
-void RequireFeaturesInMap(const Dataset& d, const std::string& features_path,
-                          const std::vector<long>& lines) {
+void RequireFeaturesInMap(const Dataset& d, const std::vector<FeatureObservation>& features,
+                          const std::string& features_path, const std::vector<long>& lines) {
   if (d.map.landmarks_W.empty()) return;
-  for (size_t i = 0; i < d.features.size(); ++i) {
-    if (d.map.landmarks_W.count(d.features[i].landmark_id) == 0)
+  for (size_t i = 0; i < features.size(); ++i) {
+    if (d.map.landmarks_W.count(features[i].landmark_id) == 0)
       throw InputError(
           features_path, lines[i], "landmark_id",
           fmt::format("landmark {} is not in map.yaml ({} landmarks, ids {}..{})",
-                      d.features[i].landmark_id, d.map.landmarks_W.size(),
+                      features[i].landmark_id, d.map.landmarks_W.size(),
                       d.map.landmarks_W.begin()->first, d.map.landmarks_W.rbegin()->first));
   }
 }
@@ -603,14 +605,15 @@ void WriteGroundTruth(const std::vector<GroundTruthState>& states, const fs::pat
   WriteFileAtomically((folder / "data.csv").string(), csv);
 }
 
+void WriteFeatures(const std::vector<FeatureObservation>& features, const fs::path& folder) {
+  if (features.empty()) return;
+  CreateOutputDirectories(folder);
+  WriteFileAtomically((folder / "data.csv").string(), FeaturesCsv(features));
+}
+
 void WriteExtensions(const Dataset& d, const fs::path& mav0) {
-  if (!d.features.empty()) {
-    CreateOutputDirectories(mav0 / kFeatures);
-    std::string csv = "#timestamp [ns],landmark_id,x [normalized],y [normalized]\n";
-    for (const auto& f : d.features)
-      csv += fmt::format("{},{},{},{}\n", f.t_ns, f.landmark_id, Num(f.xy.x()), Num(f.xy.y()));
-    WriteFileAtomically((mav0 / kFeatures / "data.csv").string(), csv);
-  }
+  WriteFeatures(d.features, mav0 / kFeatures);
+  WriteFeatures(d.features1, mav0 / kFeatures1);
   if (!d.laser.empty()) {
     CreateOutputDirectories(mav0 / kLaser);
     std::string csv = "#timestamp [ns],x [normalized],y [normalized]\n";
@@ -691,6 +694,13 @@ void WriteScenarioInfo(const Dataset& d, const std::string& path) {
 
 }  // namespace
 
+std::string FeaturesCsv(const std::vector<FeatureObservation>& features) {
+  std::string csv = "#timestamp [ns],landmark_id,x [normalized],y [normalized]\n";
+  for (const auto& f : features)
+    csv += fmt::format("{},{},{},{}\n", f.t_ns, f.landmark_id, Num(f.xy.x()), Num(f.xy.y()));
+  return csv;
+}
+
 std::string TagsCsv(const std::vector<TagObservation>& tags) {
   std::string csv =
       "#timestamp [ns],tag_id,u0 [px],v0 [px],u1 [px],v1 [px],u2 [px],v2 [px],u3 [px],v3 [px]\n";
@@ -739,7 +749,15 @@ Dataset ReadEurocDataset(const std::string& root, const EurocReadOptions& option
   const auto stream = [&](const char* name) { return (mav0 / name / "data.csv").string(); };
   if (fs::exists(stream(kGroundTruth))) d.ground_truth = ReadGroundTruthCsv(stream(kGroundTruth));
   std::vector<long> feature_lines;
-  if (fs::exists(stream(kFeatures))) d.features = ReadFeatures(stream(kFeatures), &feature_lines);
+  if (fs::exists(stream(kFeatures)))
+    d.features = ReadFeatures(stream(kFeatures), 0, &feature_lines);
+  std::vector<long> feature1_lines;
+  if (fs::exists(stream(kFeatures1)))
+    d.features1 = ReadFeatures(stream(kFeatures1), 1, &feature1_lines);
+  if (!d.features1.empty() && options.load_cameras && d.Camera("cam1") == nullptr)
+    throw InputError(
+        stream(kFeatures1), 0, "",
+        "features of cam1 (features1), but there is no cam1/ folder with a sensor.yaml");
   if (fs::exists(stream(kLaser))) d.laser = ReadLaser(stream(kLaser));
   std::vector<long> tag_lines, tag1_lines;
   if (fs::exists(stream(kTags))) d.tags = ReadTags(stream(kTags), 0, &tag_lines);
@@ -751,7 +769,8 @@ Dataset ReadEurocDataset(const std::string& root, const EurocReadOptions& option
     d.truth_quantities = ReadTruthQuantities(stream(kTruthQuantities));
   const std::string map_path = (fs::path(root) / "map.yaml").string();
   if (fs::exists(map_path)) d.map = NamingFile(map_path, [&] { return ReadMap(map_path); });
-  RequireFeaturesInMap(d, stream(kFeatures), feature_lines);
+  RequireFeaturesInMap(d, d.features, stream(kFeatures), feature_lines);
+  RequireFeaturesInMap(d, d.features1, stream(kFeatures1), feature1_lines);
   RequireTagsInMap(d, d.tags, stream(kTags), tag_lines);
   RequireTagsInMap(d, d.tags1, stream(kTags1), tag1_lines);
   const std::string scenario_path = (fs::path(root) / "scenario.yaml").string();

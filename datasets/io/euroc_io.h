@@ -51,6 +51,11 @@ void ForEachImuCsvSample(const std::string& path,
 // WriteEurocDataset writes it; `mavloc detect-tags` writes its detections with it too.
 std::string TagsCsv(const std::vector<TagObservation>& tags);
 
+// The text of a features0/features1 stream ("#timestamp [ns],landmark_id,x [normalized],
+// y [normalized]"), as WriteEurocDataset writes it; `mavloc track-features` writes its tracks with
+// it too.
+std::string FeaturesCsv(const std::vector<FeatureObservation>& features);
+
 // Reads a trajectory file in any format ReadTrajectory detects from its content
 // (trajectory_formats/trajectory_format.h: TUM, EuRoC state_groundtruth CSV with or without v,
 // b_w, b_a, ASL CSVs by header names, KITTI): repeated stamps keep the first row (counted in

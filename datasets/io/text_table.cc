@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "core/errors.h"
+#include "core/input_file.h"
 #include "core/number_text.h"
 #include "core/physical_limits.h"
 
@@ -148,10 +149,7 @@ void TextTable::RequireNotBefore(TimeNs previous_ns, TimeNs t_ns, long line) con
 
 TextRowReader::TextRowReader(const std::string& path, Separator separator)
     : path_(path), separator_(separator) {
-  if (!std::filesystem::exists(path)) throw InputError(path, 0, "", "file does not exist");
-  if (std::filesystem::is_directory(path)) throw InputError(path, 0, "", "is a folder, not a file");
-  file_.reset(std::fopen(path.c_str(), "rb"));
-  if (!file_) throw InputError(path, 0, "", "cannot open file");
+  file_.reset(OpenRegularFileStream(path));  // a pipe, a device, a loop: refused, never blocks
   buffer_.resize(kReadBlock);
 }
 

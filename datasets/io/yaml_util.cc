@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "core/errors.h"
+#include "core/input_file.h"
 #include "core/input_limits.h"
 #include "core/number_text.h"
 #include "core/physical_limits.h"
@@ -101,10 +102,7 @@ long YamlLine(const YAML::Node& node) {
 }
 
 YAML::Node LoadYamlFile(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(path, 0, "", "file does not exist");
-  if (std::filesystem::is_directory(path)) throw InputError(path, 0, "", "is a folder, not a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, "", "cannot open file");
+  std::istringstream in(ReadRegularFile(path));  // a pipe, a device, a loop: refused
   std::stringstream text;
   std::string line;
   bool first = true;

@@ -10,6 +10,8 @@
 #include <utility>
 
 #include "core/errors.h"
+#include "core/folder_walk.h"
+#include "core/input_file.h"
 #include "datasets/io/trajectory_formats/trajectory_format.h"
 #include "evaluation/relative_error.h"
 
@@ -18,29 +20,75 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<fs::path> SortedSubfolders(const fs::path& folder) {
-  std::vector<fs::path> out;
-  for (const auto& entry : fs::directory_iterator(folder))
-    if (entry.is_directory()) out.push_back(entry.path());
-  std::sort(out.begin(), out.end());
+// An entry that must be a file or a folder and is neither readable one (a loop of links, a link to
+// nothing): refused, naming it.
+void RefuseBroken(const FolderEntry& entry) {
+  if (!entry.problem.empty()) throw InputError(entry.path, 0, "", entry.problem);
+}
+
+// The subfolders of `folder`; every other entry is listed in `skipped` with `what` it is not.
+std::vector<FolderEntry> Subfolders(const std::string& folder, const std::string& what,
+                                    std::vector<SkippedFile>* skipped) {
+  std::vector<FolderEntry> out;
+  for (const FolderEntry& entry : ListFolder(folder)) {
+    RefuseBroken(entry);
+    if (entry.is_folder())
+      out.push_back(entry);
+    else
+      skipped->push_back({entry.path, "not " + what + " (a file)"});
+  }
   return out;
 }
 
-// stamped_traj_estimate.txt, or stamped_traj_estimate<k>.txt in the order of k.
-std::vector<std::string> RunFiles(const fs::path& folder) {
-  const std::regex numbered(R"(stamped_traj_estimate([0-9]{1,6})\.txt)");
-  std::map<int, std::string> by_index;
-  for (const auto& entry : fs::directory_iterator(folder)) {
+constexpr const char* kTruthName = "stamped_groundtruth.txt";
+constexpr const char* kSingleRunName = "stamped_traj_estimate.txt";
+constexpr int kMaxRunNumber = 999999;
+
+// The ground truth and runs of one sequence folder: stamped_traj_estimate.txt, or
+// stamped_traj_estimate<k>.txt in the order of k. Every other entry is listed in `skipped` with
+// the reason; a truth or run name that is not a regular file (a named pipe) is refused.
+void ReadSequenceFolder(const std::string& folder, MatrixCellFiles* cell,
+                        std::vector<SkippedFile>* skipped) {
+  const std::regex numbered(R"(stamped_traj_estimate([0-9]+)\.txt)");
+  std::map<long, FolderEntry> by_index;
+  const FolderEntry* single = nullptr;
+  const std::vector<FolderEntry> entries = ListFolder(folder);
+  for (const FolderEntry& entry : entries) {
     std::smatch match;
-    const std::string name = entry.path().filename().string();
-    if (std::regex_match(name, match, numbered))
-      by_index[std::stoi(match[1].str())] = entry.path().string();
+    const bool is_truth = entry.name == kTruthName;
+    const bool is_single = entry.name == kSingleRunName;
+    const bool is_numbered = std::regex_match(entry.name, match, numbered);
+    if (!is_truth && !is_single && !is_numbered) {
+      skipped->push_back({entry.path, "not a file of the rpg layout (" + std::string(kTruthName) +
+                                          ", stamped_traj_estimate[<k>].txt)"});
+      continue;
+    }
+    RefuseBroken(entry);
+    RequireRegularFile(entry.path);  // a pipe named like a run would block the reader
+    if (is_truth) {
+      cell->truth_path = entry.path;
+    } else if (is_single) {
+      single = &entry;
+    } else if (match[1].str().size() > 6 || std::stol(match[1].str()) > kMaxRunNumber) {
+      skipped->push_back(
+          {entry.path, fmt::format("run number beyond {} (stamped_traj_estimate<k>.txt, k from 0 "
+                                   "to {})",
+                                   kMaxRunNumber, kMaxRunNumber)});
+    } else {
+      const long k = std::stol(match[1].str());
+      const auto [at, added] = by_index.emplace(k, entry);
+      if (!added)
+        skipped->push_back(
+            {entry.path, fmt::format("run {} again (already {})", k, at->second.name)});
+    }
   }
-  std::vector<std::string> runs;
-  for (const auto& [index, path] : by_index) runs.push_back(path);
-  if (runs.empty() && fs::exists(folder / "stamped_traj_estimate.txt"))
-    runs.push_back((folder / "stamped_traj_estimate.txt").string());
-  return runs;
+  for (const auto& [index, entry] : by_index) cell->run_paths.push_back(entry.path);
+  if (single && cell->run_paths.empty())
+    cell->run_paths.push_back(single->path);
+  else if (single)
+    skipped->push_back({single->path,
+                        "an unnumbered run beside numbered ones: only stamped_traj_estimate<k>.txt "
+                        "are used"});
 }
 
 double Mean(const std::vector<double>& v) {
@@ -81,41 +129,45 @@ MatrixRun EvaluateRun(const std::string& path, const std::vector<StampedPose>& t
 
 }  // namespace
 
-std::vector<MatrixCellFiles> FindRpgLayout(const std::string& root) {
-  if (!fs::is_directory(root)) throw InputError(root, 0, "", "not a folder");
+RpgLayout FindRpgLayout(const std::string& root) {
+  RequireFolder(root);
   const std::string platform = fs::path(root).lexically_normal().filename().string() == ""
                                    ? fs::path(root).parent_path().filename().string()
                                    : fs::path(root).lexically_normal().filename().string();
-  std::vector<MatrixCellFiles> cells;
-  for (const fs::path& estimator_dir : SortedSubfolders(root)) {
-    const std::string estimator = estimator_dir.filename().string();
+  RpgLayout layout;
+  for (const FolderEntry& estimator_dir :
+       Subfolders(root, "an estimator folder", &layout.skipped)) {
+    const std::string estimator = estimator_dir.name;
     const std::string prefix = platform + "_" + estimator + "_";
-    for (const fs::path& sequence_dir : SortedSubfolders(estimator_dir)) {
-      std::string sequence = sequence_dir.filename().string();
+    for (const FolderEntry& sequence_dir :
+         Subfolders(estimator_dir.path, "a sequence folder", &layout.skipped)) {
+      std::string sequence = sequence_dir.name;
       if (sequence.rfind(prefix, 0) == 0 && sequence.size() > prefix.size())
         sequence = sequence.substr(prefix.size());
-      MatrixCellFiles cell{estimator, sequence, (sequence_dir / "stamped_groundtruth.txt").string(),
-                           RunFiles(sequence_dir)};
-      if (!fs::exists(cell.truth_path))
-        throw InputError(sequence_dir.string(), 0, "",
+      MatrixCellFiles cell{estimator, sequence, "", {}};
+      ReadSequenceFolder(sequence_dir.path, &cell, &layout.skipped);
+      if (cell.truth_path.empty())
+        throw InputError(sequence_dir.path, 0, "",
                          "no stamped_groundtruth.txt (the rpg layout: " + estimator +
                              "/<platform>_<estimator>_<sequence>/stamped_groundtruth.txt)");
       if (cell.run_paths.empty())
-        throw InputError(sequence_dir.string(), 0, "",
+        throw InputError(sequence_dir.path, 0, "",
                          "no stamped_traj_estimate.txt or stamped_traj_estimate<k>.txt");
-      cells.push_back(std::move(cell));
+      layout.cells.push_back(std::move(cell));
     }
   }
-  if (cells.empty())
+  if (layout.cells.empty())
     throw InputError(root, 0, "",
                      "no <estimator>/<platform>_<estimator>_<sequence>/ folders (the "
                      "rpg_trajectory_evaluation layout)");
-  return cells;
+  return layout;
 }
 
-MatrixResult EvaluateMatrix(const std::vector<MatrixCellFiles>& files,
-                            const EvaluationProtocol& protocol, uint64_t seed) {
+MatrixResult EvaluateMatrix(const RpgLayout& layout, const EvaluationProtocol& protocol,
+                            uint64_t seed) {
+  const std::vector<MatrixCellFiles>& files = layout.cells;
   MatrixResult result;
+  result.skipped = layout.skipped;
   result.protocol = protocol;
   result.seed = seed;
   // The relative-error lengths of a sequence come from its first ground truth, so that every

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "core/folder_walk.h"
 #include "evaluation/matrix/matrix_statistics.h"
 #include "evaluation/report/report.h"
 #include "evaluation/trajectory_evaluation.h"
@@ -32,10 +33,19 @@ struct MatrixCellFiles {
   std::vector<std::string> run_paths;  // in run order
 };
 
-// The cells found under `root` (layout above), sorted by estimator then sequence. Throws
-// InputError naming the folder when the layout holds no cell, or a sequence folder has no
-// ground truth or no estimate.
-std::vector<MatrixCellFiles> FindRpgLayout(const std::string& root);
+struct RpgLayout {
+  std::vector<MatrixCellFiles> cells;  // sorted by estimator then sequence
+  // Every entry of the walk that is not used, with the reason: files beside the estimator and
+  // sequence folders, files of a sequence folder that are not part of the layout, a run number
+  // beyond 999999, a run number given twice (run1 and run01), an unnumbered run beside numbered
+  // ones. The report lists them.
+  std::vector<SkippedFile> skipped;
+};
+
+// The cells found under `root` (layout above). Throws InputError naming the path when the layout
+// holds no cell, a sequence folder has no ground truth or no estimate, a truth or run name is not
+// a regular file (a named pipe, a folder) or an entry is a loop of symbolic links.
+RpgLayout FindRpgLayout(const std::string& root);
 
 struct MatrixRun {
   std::string path;
@@ -65,10 +75,11 @@ struct MatrixResult {
   std::vector<PairedComparison> pairs;
   EvaluationProtocol protocol;
   uint64_t seed = 1;
+  std::vector<SkippedFile> skipped;  // from the layout
 };
 
-MatrixResult EvaluateMatrix(const std::vector<MatrixCellFiles>& cells,
-                            const EvaluationProtocol& protocol, uint64_t seed);
+MatrixResult EvaluateMatrix(const RpgLayout& layout, const EvaluationProtocol& protocol,
+                            uint64_t seed);
 
 // The Report (kind "matrix"): the cells as a table per statistic, the paired tests as a table,
 // one estimator result per estimator (its per-sequence RMSE statistics over runs), and the files

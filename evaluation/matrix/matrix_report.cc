@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "evaluation/matrix/matrix_evaluation.h"
+#include "evaluation/report/csv_field.h"
 #include "evaluation/report/latex.h"
 #include "evaluation/report/report_protocol.h"
 
@@ -52,9 +53,10 @@ std::string RunsCsv(const MatrixResult& r) {
   std::string csv = "estimator,sequence,run,file,pairs,ate_rmse_m,ate_rotation_rmse_rad\n";
   for (const auto& c : r.cells)
     for (size_t k = 0; k < c.runs.size(); ++k)
-      csv += fmt::format("{},{},{},{},{},{:.9g},{:.9g}\n", c.estimator, c.sequence, k,
-                         std::filesystem::path(c.runs[k].path).filename().string(), c.runs[k].pairs,
-                         c.runs[k].ate_rmse_m, c.runs[k].ate_rotation_rmse_rad);
+      csv +=
+          fmt::format("{},{},{},{},{},{:.9g},{:.9g}\n", CsvField(c.estimator), CsvField(c.sequence),
+                      k, CsvField(std::filesystem::path(c.runs[k].path).filename().string()),
+                      c.runs[k].pairs, c.runs[k].ate_rmse_m, c.runs[k].ate_rotation_rmse_rad);
   return csv;
 }
 
@@ -64,8 +66,8 @@ std::string RelativeCsv(const MatrixResult& r) {
     for (size_t k = 0; k < c.runs.size(); ++k)
       for (const auto& rel : c.runs[k].relative)
         for (const double pct : rel.translation_percent)
-          csv +=
-              fmt::format("{},{},{},{:g},{:.9g}\n", c.estimator, c.sequence, k, rel.length_m, pct);
+          csv += fmt::format("{},{},{},{:g},{:.9g}\n", CsvField(c.estimator), CsvField(c.sequence),
+                             k, rel.length_m, pct);
   return csv;
 }
 
@@ -101,6 +103,16 @@ ReportTable CellTable(const MatrixResult& r) {
   for (const auto& c : r.cells)
     t.rows.push_back({c.estimator, c.sequence, static_cast<int>(c.runs.size()), c.mean_m, c.std_m,
                       c.interval.low, c.interval.high});
+  return t;
+}
+
+// Every file the folder walk did not use, with the reason (matrix_evaluation.h: RpgLayout).
+ReportTable SkippedTable(const MatrixResult& r) {
+  ReportTable t{"skipped_files",
+                "Files of the folder that were not used, and why",
+                {{"file", ""}, {"reason", ""}},
+                {}};
+  for (const auto& skipped : r.skipped) t.rows.push_back({skipped.path, skipped.reason});
   return t;
 }
 
@@ -147,6 +159,13 @@ Report MatrixReport(const MatrixResult& r) {
     report.estimators.push_back(result);
   }
   report.tables = {MeanTable(r), CellTable(r), PairTable(r)};
+  if (!r.skipped.empty()) {
+    report.tables.push_back(SkippedTable(r));
+    // A file named like a run that was not used changes the result: each is a warning.
+    for (const auto& skipped : r.skipped)
+      if (std::filesystem::path(skipped.path).filename().string().rfind("stamped_", 0) == 0)
+        report.warnings.push_back(skipped.path + ": not used: " + skipped.reason);
+  }
   report.sections.push_back(
       {"Method",
        fmt::format(

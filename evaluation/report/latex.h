@@ -5,7 +5,8 @@
 
 namespace mavloc {
 
-// Escapes the characters LaTeX treats specially in running text: _ % & # $ { }.
+// Escapes the characters LaTeX treats specially in running text: _ % & # $ { } with a backslash,
+// \ ~ ^ as \textbackslash{}, \textasciitilde{}, \textasciicircum{}.
 std::string LatexEscape(const std::string& text);
 
 }  // namespace mavloc

@@ -265,10 +265,9 @@ SlurmFiles WriteSlurmFiles(const SweepGrid& grid, const SlurmOptions& options) {
                        ShellQuote(dir + "/partials"), ShellQuote(dir + "/report"));
 
   SlurmFiles files{dir + "/sweep.sbatch", dir + "/merge.sbatch"};
-  WriteFileAtomically(out + "/sweep.sbatch", array);
-  WriteFileAtomically(out + "/merge.sbatch", merge);
-  fs::permissions(out + "/sweep.sbatch", fs::perms::owner_exec, fs::perm_options::add, error);
-  fs::permissions(out + "/merge.sbatch", fs::perms::owner_exec, fs::perm_options::add, error);
+  // Executable from creation: no chmod afterwards through a name someone else could replace.
+  WriteFileAtomically(out + "/sweep.sbatch", array, {.executable = true});
+  WriteFileAtomically(out + "/merge.sbatch", merge, {.executable = true});
   nlohmann::json state = {{"shards", options.shards},
                           {"fingerprint", SweepFingerprint(grid)},
                           {"submissions", nlohmann::json::array()}};

@@ -113,7 +113,7 @@ Worker StartWorker(const std::vector<std::string>& argv, const std::string& stde
     ::sigemptyset(&none);
     ::sigprocmask(SIG_SETMASK, &none, nullptr);
     const int null_fd = ::open("/dev/null", O_WRONLY);
-    const int err_fd = ::open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err_fd = ::open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW, 0600);
     if (null_fd >= 0) ::dup2(null_fd, STDOUT_FILENO);
     if (err_fd >= 0) ::dup2(err_fd, STDERR_FILENO);
     if (::dup2(fds[1], kSweepWorkerChannelFd) < 0) ::_exit(127);

@@ -39,9 +39,15 @@ differ by more than 30x has a logarithmic y axis, said in its label.
   sweep, obstacles: no figures.
 
 Usage: /usr/bin/python3 scripts/figures/report_figures.py REPORT_DIR [--kind KIND]
+           [--out-dir DIR] [--input NAME]...
 The mavloc binary embeds this file and runs it after writing a report, then writes report.html;
 run by hand, it writes the PNG files only. Prints one line per figure:
 "figure<TAB>file<TAB>caption".
+Files: with --input, only REPORT_DIR/NAME of the names given is read (mavloc passes the folder's
+regular files); an input that is not a regular file (a named pipe, a device) is never opened.
+Each figure is written to a temporary file in the output folder (--out-dir, else REPORT_DIR) and
+renamed over its name (os.replace), so an existing name, a symbolic link included, is replaced,
+never written through. A failure names the file being read: "report_figures: FILE: ERROR".
 Exit code 3 when matplotlib or numpy is missing (Debian: apt-get install python3-matplotlib).
 """
 import argparse
@@ -50,7 +56,9 @@ import json
 import math
 import os
 import re
+import stat
 import sys
+import tempfile
 import warnings
 from collections import OrderedDict, defaultdict
 
@@ -82,17 +90,74 @@ REFERENCE = {"color": "dimgray", "linestyle": "-.", "linewidth": 1.1, "zorder": 
 STAT_STYLES = (("rmse", "-", "black"), ("mean", "--", "#555555"), ("median", ":", "black"))
 
 
+INPUTS = None  # the file names --input allows (None: every file of the folder, run by hand)
+READING = []  # the input files opened so far, the last one named when a figure fails
+UMASK = os.umask(0)
+os.umask(UMASK)
+
+
+def input_allowed(path):
+    return INPUTS is None or os.path.basename(path) in INPUTS
+
+
+def open_input(path, mode="r", **kwargs):
+    """open() for reading an input: only the names given, only a regular file (a named pipe is
+    opened without blocking and refused)."""
+    if not input_allowed(path):
+        raise FileNotFoundError(f"{path}: not among the input files")
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise OSError(f"{path}: not a regular file")
+        os.set_blocking(fd, True)
+        READING.append(os.path.basename(path))
+        return os.fdopen(fd, mode, **kwargs)
+    except BaseException:
+        os.close(fd)
+        raise
+
+
+def input_exists(path):
+    if not input_allowed(path):
+        return False
+    try:
+        return stat.S_ISREG(os.stat(path).st_mode)
+    except OSError:
+        return False
+
+
+def input_names(folder):
+    """The folder's input file names, sorted."""
+    if INPUTS is not None:
+        return sorted(INPUTS)
+    return sorted(name for name in os.listdir(folder) if input_exists(os.path.join(folder, name)))
+
+
 class Figures:
-    """Saves figures into the report folder and announces each on stdout."""
+    """Saves figures into the output folder and announces each on stdout."""
 
     def __init__(self, folder):
         self.folder = folder
         self.written = []
 
     def save(self, fig, name, caption):
-        path = os.path.join(self.folder, name)
-        fig.savefig(path, dpi=DPI)
-        plt.close(fig)
+        if os.path.basename(name) != name or name.startswith("."):
+            raise ValueError(f"figure name {name!r} is not a plain file name")
+        # A fresh temporary file (O_EXCL, never through a link) renamed over the name.
+        fd, temporary = tempfile.mkstemp(prefix=f".{name}.tmp-", dir=self.folder)
+        try:
+            os.fchmod(fd, 0o666 & ~UMASK)
+            with os.fdopen(fd, "wb") as f:
+                fig.savefig(f, format="png", dpi=DPI)
+            os.replace(temporary, os.path.join(self.folder, name))
+        except BaseException:
+            try:
+                os.unlink(temporary)
+            except OSError:
+                pass
+            raise
+        finally:
+            plt.close(fig)
         self.written.append(name)
         caption = " ".join(caption.split())
         print(f"figure\t{name}\t{caption}", flush=True)
@@ -129,7 +194,7 @@ def to_float(text):
 
 
 def read_csv(path):
-    with open(path, newline="", encoding="utf-8-sig") as f:
+    with open_input(path, newline="", encoding="utf-8-sig") as f:
         rows = list(csv.reader(f))
     if not rows:
         return [], []
@@ -138,7 +203,7 @@ def read_csv(path):
 
 def read_json(path):
     try:
-        with open(path, encoding="utf-8") as f:
+        with open_input(path, encoding="utf-8") as f:
             return json.load(f)
     except (OSError, ValueError):
         return None
@@ -148,7 +213,7 @@ def read_trajectory(path):
     """[t x y z qx qy qz qw] rows of a TUM file (blank and '#' lines skipped; spaces, tabs or
     commas; the quaternion NaN when a line has only t x y z), sorted by time."""
     rows = []
-    with open(path, encoding="utf-8-sig") as f:
+    with open_input(path, encoding="utf-8-sig") as f:
         for line in f:
             line = line.strip()
             if not line or line.startswith("#"):
@@ -167,7 +232,7 @@ def read_trajectory(path):
 def estimate_files(folder):
     """label -> [(run, path)] for estimate_<label>[_run<k>].tum, runs in order."""
     found = defaultdict(list)
-    for name in sorted(os.listdir(folder)):
+    for name in input_names(folder):
         m = re.fullmatch(r"estimate_(.+?)(?:_run(\d+))?\.tum", name)
         if m:
             found[m.group(1)].append((int(m.group(2) or 0), os.path.join(folder, name)))
@@ -187,7 +252,7 @@ def read_estimates(folder, order=()):
 
 def read_truth(folder, name="truth.tum"):
     path = os.path.join(folder, name)
-    return read_trajectory(path) if os.path.exists(path) else None
+    return read_trajectory(path) if input_exists(path) else None
 
 
 # ---------------------------------------------------------------------------------------------
@@ -495,7 +560,7 @@ def trajectory_figure(out, folder, title, order=(), colors=None):
         ax.grid(True, alpha=0.3)
     legend_outside(axes[1])
     fig.suptitle(title)
-    aligned = os.path.exists(os.path.join(folder, "report.md"))
+    aligned = input_exists(os.path.join(folder, "report.md"))
     out.save(fig, "trajectory.png",
              "Trajectories, top (x-y) and side (x-z) views, equal axes" +
              (" (but the side view's z axis, stretched: the height varies little)" if stretched
@@ -710,7 +775,7 @@ def ape_over_time_figure(out, rows, caption_source, against_reference=False):
 def csv_labels(path, column):
     """The values of one column in order of first appearance (empty when the file is absent)."""
     labels = []
-    if os.path.exists(path):
+    if input_exists(path):
         header, rows = read_csv(path)
         if column in header:
             i = header.index(column)
@@ -748,7 +813,7 @@ def eval_figures(out, folder):
                    OrderedDict((x, trajectory_quantities(a[0], t0)) for x, a in estimates.items()),
                    colors, "; a label with several runs shows its first run")
     path = os.path.join(folder, "errors_over_time.csv")
-    if os.path.exists(path):
+    if input_exists(path):
         header, rows = read_csv(path)
         col = {h: i for i, h in enumerate(header)}
         needed = ["label", "t_s", "translation_error_m", "rotation_error_deg"]
@@ -801,7 +866,7 @@ def eval_figures(out, folder):
                                  statistics_over_runs([e for _, e in rot])))
             ape_over_time_figure(out, ape_rows, "computed over the pairs of errors_over_time.csv")
     path = os.path.join(folder, "relative_errors.csv")
-    if os.path.exists(path):
+    if input_exists(path):
         header, rows = read_csv(path)
         col = {h: i for i, h in enumerate(header)}
         needed = ["label", "length_m", "translation_error_pct", "rotation_error_deg_per_m"]
@@ -1478,7 +1543,7 @@ def crlb_csv_figure(out, folder, name):
 
 
 def repro_figures(out, folder):
-    for name in sorted(os.listdir(folder)):
+    for name in input_names(folder):
         if name.endswith(".csv") and len(out.written) < MAX_REPRO_FIGURES:
             try:
                 if name.startswith("crlb_"):
@@ -1488,8 +1553,8 @@ def repro_figures(out, folder):
             except (ValueError, IndexError, KeyError) as error:
                 print(f"report_figures: {name}: skipped ({error})", file=sys.stderr)
     path = os.path.join(folder, "report.json")
-    if os.path.exists(path):
-        with open(path, encoding="utf-8") as f:
+    if input_exists(path):
+        with open_input(path, encoding="utf-8") as f:
             report = json.load(f)
         # A reproduction's own tables are the details of the one report schema.
         if isinstance(report, dict) and isinstance(report.get("details"), dict):
@@ -1648,7 +1713,7 @@ def detect_kind(folder):
     for name in ("report.json", "eval.json"):
         path = os.path.join(folder, name)
         try:
-            with open(path, encoding="utf-8") as f:
+            with open_input(path, encoding="utf-8") as f:
                 kind = json.load(f).get("report_kind")
         except (OSError, ValueError, AttributeError):
             continue
@@ -1667,7 +1732,7 @@ def imu_noise_figures(out, folder):
     tau = np.array([to_float(r[col["tau_s"]]) for r in rows])
     report = {}
     try:
-        with open(os.path.join(folder, "report.json"), encoding="utf-8") as f:
+        with open_input(os.path.join(folder, "report.json"), encoding="utf-8") as f:
             report = json.load(f)
     except (OSError, ValueError):
         pass
@@ -1709,6 +1774,7 @@ def imu_noise_figures(out, folder):
 
 
 def main():
+    global INPUTS
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("report_dir")
@@ -1716,15 +1782,31 @@ def main():
                         choices=["eval", "compare", "repro", "sweep", "obstacles", "matrix",
                                  "imu-noise"],
                         default=None)
+    parser.add_argument("--out-dir", default=None,
+                        help="folder the PNG files are written to (default: REPORT_DIR)")
+    parser.add_argument("--input", action="append", default=None, metavar="NAME",
+                        help="a file of REPORT_DIR the figures may read (repeated); default: all")
     args = parser.parse_args()
     if not os.path.isdir(args.report_dir):
         sys.exit(f"report_figures: {args.report_dir}: not a folder")
+    out_dir = args.out_dir or args.report_dir
+    if not os.path.isdir(out_dir):
+        sys.exit(f"report_figures: {out_dir}: not a folder")
+    if args.input is not None:
+        INPUTS = {name for name in args.input if os.path.basename(name) == name}
     kind = args.kind or detect_kind(args.report_dir)
-    out = Figures(args.report_dir)
-    {"eval": eval_figures, "compare": compare_figures, "repro": repro_figures,
-     "matrix": matrix_figures, "imu-noise": imu_noise_figures, "sweep": sweep_figures,
-     "obstacles": obstacle_figures}.get(
-        kind, lambda *_: None)(out, args.report_dir)
+    out = Figures(out_dir)
+    draw = {"eval": eval_figures, "compare": compare_figures, "repro": repro_figures,
+            "matrix": matrix_figures, "imu-noise": imu_noise_figures, "sweep": sweep_figures,
+            "obstacles": obstacle_figures}.get(kind, lambda *_: None)
+    try:
+        draw(out, args.report_dir)
+    except Exception as error:  # one line naming the file, not a traceback
+        name = READING[-1] if READING else args.report_dir
+        message = " ".join(str(error).split()) or "no message"
+        print(f"report_figures: {name}: {type(error).__name__}: {message} "
+              f"(while drawing the {kind} figures)", file=sys.stderr)
+        sys.exit(1)
     if not out.written:
         print(f"report_figures: {args.report_dir} ({kind}): nothing to plot", file=sys.stderr)
 

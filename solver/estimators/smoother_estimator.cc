@@ -12,6 +12,7 @@
 #include "core/errors.h"
 #include "core/rotation.h"
 #include "solver/board/board_gravity_from_positions.h"
+#include "solver/estimators/smoother_common.h"
 #include "solver/imu/imu_integrator.h"
 #include "solver/laser/laser_calibration.h"
 #include "solver/smoother/smoother_windows.h"
@@ -140,11 +141,15 @@ LandmarkMode ResolveLandmarkMode(const std::string& text, const Dataset& dataset
   if (text == "known") return LandmarkMode::kKnown;
   if (text == "ground") return LandmarkMode::kUnknownGround;
   if (text == "unknown") return LandmarkMode::kUnknown;
+  if (text == "tracks") return LandmarkMode::kTracks;
   if (text != "auto")
-    throw InputError("smoother: option landmarks must be auto, known, ground or unknown");
+    throw InputError("smoother: option landmarks must be auto, known, ground, unknown or tracks");
   if (IsThreePointWorld(dataset)) return LandmarkMode::kUnknownGround;
+  if (HasFeatureTracks(dataset) && !HasMapTags(dataset)) return LandmarkMode::kTracks;
   return AllFeaturesInMap(dataset) ? LandmarkMode::kKnown : LandmarkMode::kUnknown;
 }
+
+}  // namespace
 
 // d(roll, pitch, yaw) / d(dtheta) for R Exp(dtheta), by central differences.
 Eigen::Matrix3d EulerJacobian(const Eigen::Quaterniond& q) {
@@ -159,6 +164,8 @@ Eigen::Matrix3d EulerJacobian(const Eigen::Quaterniond& q) {
   }
   return J;
 }
+
+namespace {
 
 // Triangle angles of the three-point paper (Fig. 7): gamma1 at P1 between P1->P2 and P1->P3,
 // gamma2 the turn from P1->P2 to P2->P3.
@@ -216,6 +223,8 @@ SmootherResult SolveRobustly(const Dataset& dataset, const std::vector<SmootherK
   kept.statistics.initial_cost = direct.statistics.initial_cost;
   return kept;
 }
+
+}  // namespace
 
 // fit_imu_noise=1 (variance component estimation, smoother_covariance.h ResidualGroupFit): the IMU
 // factors' chi2 over their redundancy is the factor by which the stated variances are off. All four
@@ -289,6 +298,8 @@ void NoteUnconverged(const SmootherResult& result, int max_iterations, Estimate*
       "and its numbers move with the arithmetic's rounding; a larger max_iterations lets it go on",
       max_iterations, result.statistics.last_relative_cost_change));
 }
+
+namespace {
 
 // Whether a solution's cost is plausible for its residuals: twice the cost (the sum of squared
 // whitened residuals) within kPlausibleCostFactor times the number of residual dimensions (15 per
@@ -470,14 +481,16 @@ Applicability SmootherEstimator::AppliesTo(const Dataset& dataset) const {
   if (dataset.imu.samples.size() < 2) return Applicability::No("needs imu0 samples");
   if (dataset.cameras.empty()) return Applicability::No("needs cam0 (for the extrinsics)");
   const bool features =
-      !dataset.features.empty() && (AllFeaturesInMap(dataset) || IsThreePointWorld(dataset) ||
-                                    options_.GetString("landmarks", "auto") != "auto");
+      !dataset.features.empty() &&
+      (AllFeaturesInMap(dataset) || IsThreePointWorld(dataset) || HasFeatureTracks(dataset) ||
+       options_.GetString("landmarks", "auto") != "auto");
   const bool tags = HasMapTags(dataset);
   const bool laser = !dataset.laser.empty() && BeamFromMap(dataset).has_value();
   if (!features && !tags && !laser)
     return Applicability::No(
-        "needs visual residuals: features0 with map landmarks (or the three-point world), tags0 "
-        "with map tags, or laser0 with the laser parameters in map.yaml");
+        "needs visual residuals: features0 (feature tracks, or map landmarks, or the three-point "
+        "world), camera images to track features in, tags0 with map tags, or laser0 with the "
+        "laser parameters in map.yaml");
   return Applicability::Yes();
 }
 
@@ -558,6 +571,8 @@ SmootherProblemOptions SmootherEstimator::ProblemOptionsFor(const Dataset& datas
 }
 
 Estimate SmootherEstimator::Run(const Dataset& dataset) {
+  if (ProblemOptionsFor(dataset).landmarks == LandmarkMode::kTracks && !options_.Has("seed"))
+    return RunFromTracks(dataset);
   const std::string seed_name = SeedEstimatorFor(dataset);
   if (seed_name == "landmark-pnp") {  // built in: no registry estimator takes features0 landmarks
     const std::vector<StampedPose> seed_poses = LandmarkPnpSeed(dataset);

@@ -99,6 +99,10 @@ class SmootherEstimator : public Estimator {
   // pitch, alpha), output the modes' quantities (Run uses laser-ekf's; tests give their own).
   Estimate RunFromLaserModes(const Dataset& dataset, const Estimate& seed_estimate);
 
+  // Feature tracks of unknown landmarks (features0/features1 of frontends/features/):
+  // smoother_tracks.cc.
+  Estimate RunFromTracks(const Dataset& dataset);
+
   // The seed estimator used for a dataset, and the problem options derived from it.
   std::string SeedEstimatorFor(const Dataset& dataset) const;
   SmootherProblemOptions ProblemOptionsFor(const Dataset& dataset) const;
@@ -109,6 +113,10 @@ class SmootherEstimator : public Estimator {
   // Camera indices whose tags enter (option `cameras`).
   std::vector<int> CamerasFor(const Dataset& dataset) const;
   bool IsLaserOnly(const Dataset& dataset) const;
+  // The growing window over the track keyframes `times` from `start` (smoother_tracks.cc).
+  SmootherResult SolveTracksGrowing(const Dataset& tracked, const std::vector<TimeNs>& times,
+                                    const ImuKeyframeState& start,
+                                    const SmootherProblemOptions& options) const;
   // The windows to solve `keyframes` in (options window_s, window_overlap_s, memory_budget_mib),
   // nullopt for one batch; the choice is added to the estimate's events.
   std::optional<SmootherWindowOptions> WindowsFor(const Dataset& dataset,

@@ -8,12 +8,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
+#include <set>
 
 #include "core/board_frame.h"
 #include "core/rotation.h"
 #include "core/tag_geometry.h"
 #include "solver/smoother/imu_time_shift.h"
+#include "solver/smoother/residuals/anchored_bearing_factor.h"
 #include "solver/smoother/residuals/bias_random_walk_factor.h"
 #include "solver/smoother/residuals/calibrated_reprojection_factor.h"
 #include "solver/smoother/residuals/feature_bearing_factor.h"
@@ -183,6 +186,13 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
   for (int k = 0; k < n; ++k) blocks[k] = ToBlocks(initial[k].state);
   std::map<int, std::array<double, 3>> landmarks;
   for (const auto& [id, p] : initial_landmarks_W) landmarks[id] = {p.x(), p.y(), p.z()};
+  // Feature tracks: anchored once at the initial keyframes, kept over the relinearization rounds.
+  std::map<int, AnchoredTrack> tracks;
+  if (options.landmarks == LandmarkMode::kTracks) {
+    std::vector<Pose> T_W_B;
+    for (const auto& kf : initial) T_W_B.emplace_back(kf.state.q_W_B, kf.state.p_W);
+    tracks = AnchorTracks(dataset, times, T_W_B, initial_landmarks_W, options.tracks);
+  }
   std::array<double, 3> plane_n{0.0, 0.0, 1.0};
   std::array<double, 1> plane_d{0.0};
   const bool use_laser =
@@ -295,6 +305,13 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
           nullptr, blocks[0].b_a.data());
     }
     result.statistics.num_imu_factors = n - 1;
+    for (const TimeNs t_ns : options.zero_velocity_times) {
+      const int k = KeyframeAt(times, t_ns);
+      if (k >= 0)
+        problem.AddResidualBlock(
+            VectorPriorFactor::Create(Eigen::Vector3d::Zero(), options.zero_velocity_sigma_m_s),
+            nullptr, blocks[k].v.data());
+    }
 
     // Visual residuals. An observation is dropped when no keyframe is at its time, or when its
     // point is behind the camera at the initial state (the residual is undefined there).
@@ -305,54 +322,103 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
     std::vector<ceres::ResidualBlockId> corner_residuals;
     int num_visual = 0;
     int num_anchored = 0;  // residuals against known map points (they fix the gauge)
-    auto initial_depth = [&](int k, const Eigen::Vector3d& p_W) {
+    auto initial_depth = [&](int k, const Eigen::Vector3d& p_W, const Pose& T_B_C) {
       const Pose T_W_B(FromBlocks(blocks[k]).q_W_B, Eigen::Vector3d(blocks[k].p.data()));
-      return ((T_W_B * camera->T_B_C).Inverse() * p_W).z();
+      return ((T_W_B * T_B_C).Inverse() * p_W).z();
+    };
+    // A track's observation: the anchor's own cam0 observation defines its bearing (no residual);
+    // its cam1 observation at the anchor is a stereo residual on rho alone; any other keyframe's
+    // observation couples the anchor and the observing keyframe (track_landmarks.h).
+    std::set<int> tracks_in_problem;
+    const auto add_track_residual = [&](const FeatureObservation& obs, int k,
+                                        const CameraSensor& sensor) {
+      auto it = tracks.find(obs.landmark_id);
+      if (it == tracks.end()) {
+        drop("feature: track without a cam0 observation at a keyframe", obs.t_ns);
+        return false;
+      }
+      AnchoredTrack& track = it->second;
+      const int a = track.anchor_keyframe;
+      const Pose& T_B_C0 = dataset.cameras.front().T_B_C;
+      if (k == a && obs.camera == 0) return false;
+      if (k == a) {
+        problem.AddResidualBlock(
+            AnchorStereoBearingFactor::Create(T_B_C0, track.b_anchor_C0, sensor.T_B_C, obs.xy,
+                                              options.bearing_sigma_rad),
+            loss.get(), track.rho.data());
+      } else {
+        problem.AddResidualBlock(
+            AnchoredBearingFactor::Create(T_B_C0, track.b_anchor_C0, sensor.T_B_C, obs.xy,
+                                          options.bearing_sigma_rad),
+            loss.get(), blocks[a].q.data(), blocks[a].p.data(), blocks[k].q.data(),
+            blocks[k].p.data(), track.rho.data());
+      }
+      if (tracks_in_problem.insert(obs.landmark_id).second) {
+        problem.AddResidualBlock(
+            InverseDepthPriorFactor::Create(options.tracks.rho_prior_mean_per_m,
+                                            options.tracks.rho_prior_sigma_per_m),
+            nullptr, track.rho.data());
+        problem.SetParameterLowerBound(track.rho.data(), 0, options.tracks.min_rho_per_m);
+        problem.SetParameterUpperBound(track.rho.data(), 0, options.tracks.max_rho_per_m);
+      }
+      return true;
     };
     if (camera) {
       const bool landmark_parameters = options.landmarks != LandmarkMode::kKnown;
-      for (const FeatureObservation& obs : dataset.features) {
-        const int k = KeyframeAt(times, obs.t_ns);
-        if (k < 0) {
-          drop("feature: no keyframe at its time", obs.t_ns);
-          continue;
-        }
-        if (!landmark_parameters) {
-          auto it = dataset.map.landmarks_W.find(obs.landmark_id);
-          if (it == dataset.map.landmarks_W.end()) {
-            drop("feature: landmark not in the map", obs.t_ns);
+      // features0 (cam0), then features1 (cam1: stereo tracks, the same landmark ids).
+      const bool has_cam1 = dataset.cameras.size() > 1;
+      for (const std::vector<FeatureObservation>* stream : {&dataset.features, &dataset.features1})
+        for (const FeatureObservation& obs : *stream) {
+          if (obs.camera == 1 && !has_cam1) {
+            drop("feature: features1 without cam1's calibration", obs.t_ns);
             continue;
           }
-          if (initial_depth(k, it->second) <= 0.01) {
-            drop("feature: behind the camera at the seed", obs.t_ns);
+          const CameraSensor& sensor = dataset.cameras[obs.camera];
+          const int k = KeyframeAt(times, obs.t_ns);
+          if (k < 0) {
+            drop("feature: no keyframe at its time", obs.t_ns);
             continue;
           }
-          if (options.features_as_bearings) {
-            auto& block = landmarks[obs.landmark_id];
-            block = {it->second.x(), it->second.y(), it->second.z()};
-            problem.AddResidualBlock(
-                FeatureBearingFactor::Create(camera->T_B_C, obs.xy, options.bearing_sigma_rad),
-                loss.get(), blocks[k].q.data(), blocks[k].p.data(), block.data());
-            problem.SetParameterBlockConstant(block.data());
+          if (options.landmarks == LandmarkMode::kTracks) {
+            if (add_track_residual(obs, k, sensor)) ++num_visual;
+            continue;
+          }
+          if (!landmark_parameters) {
+            auto it = dataset.map.landmarks_W.find(obs.landmark_id);
+            if (it == dataset.map.landmarks_W.end()) {
+              drop("feature: landmark not in the map", obs.t_ns);
+              continue;
+            }
+            if (initial_depth(k, it->second, sensor.T_B_C) <= 0.01) {
+              drop("feature: behind the camera at the seed", obs.t_ns);
+              continue;
+            }
+            if (options.features_as_bearings) {
+              auto& block = landmarks[obs.landmark_id];
+              block = {it->second.x(), it->second.y(), it->second.z()};
+              problem.AddResidualBlock(
+                  FeatureBearingFactor::Create(sensor.T_B_C, obs.xy, options.bearing_sigma_rad),
+                  loss.get(), blocks[k].q.data(), blocks[k].p.data(), block.data());
+              problem.SetParameterBlockConstant(block.data());
+            } else {
+              problem.AddResidualBlock(
+                  MapPointReprojection(options, sensor.model, sensor.T_B_C, it->second,
+                                       sensor.model.NormalizedToPixel(obs.xy)),
+                  loss.get(), blocks[k].q.data(), blocks[k].p.data());
+            }
+            ++num_anchored;
           } else {
+            auto it = landmarks.find(obs.landmark_id);
+            if (it == landmarks.end()) {
+              drop("feature: landmark not initialized", obs.t_ns);
+              continue;
+            }
             problem.AddResidualBlock(
-                MapPointReprojection(options, camera->model, camera->T_B_C, it->second,
-                                     camera->model.NormalizedToPixel(obs.xy)),
-                loss.get(), blocks[k].q.data(), blocks[k].p.data());
+                FeatureBearingFactor::Create(sensor.T_B_C, obs.xy, options.bearing_sigma_rad),
+                loss.get(), blocks[k].q.data(), blocks[k].p.data(), it->second.data());
           }
-          ++num_anchored;
-        } else {
-          auto it = landmarks.find(obs.landmark_id);
-          if (it == landmarks.end()) {
-            drop("feature: landmark not initialized", obs.t_ns);
-            continue;
-          }
-          problem.AddResidualBlock(
-              FeatureBearingFactor::Create(camera->T_B_C, obs.xy, options.bearing_sigma_rad),
-              loss.get(), blocks[k].q.data(), blocks[k].p.data(), it->second.data());
+          ++num_visual;
         }
-        ++num_visual;
-      }
       // Tag corners of every selected camera. Map coordinates are in W, or in M on a board map.
       const Eigen::Matrix3d R_W_M_now = QuaternionFromBlock(q_W_M).toRotationMatrix();
       bool shared_blocks_added = false;
@@ -640,6 +706,7 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
         layout.keyframes.push_back(
             {b.q.data(), b.p.data(), b.v.data(), b.b_g.data(), b.b_a.data()});
       for (auto& [id, p] : landmarks) layout.others.push_back(p.data());
+      for (auto& [id, track] : tracks) layout.others.push_back(track.rho.data());
       layout.others.insert(layout.others.end(),
                            {plane_n.data(), plane_d.data(), q_W_M.data(), time_offset.data()});
       for (auto& [cam, e] : extrinsics) {
@@ -786,6 +853,13 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
   if (options.landmarks != LandmarkMode::kKnown) {
     for (const auto& [id, p] : landmarks)
       result.landmarks_W[id] = Eigen::Vector3d(p[0], p[1], p[2]);
+  }
+  if (options.landmarks == LandmarkMode::kTracks && !result.keyframes.empty()) {
+    const Pose& T_B_C0 = dataset.cameras.front().T_B_C;
+    for (const auto& [id, track] : tracks) {
+      const ImuKeyframeState& s = result.keyframes[track.anchor_keyframe].state;
+      result.landmarks_W[id] = TrackPositionW(track, Pose(s.q_W_B, s.p_W), T_B_C0);
+    }
   }
   if (use_laser && options.estimate_plane) {
     Plane plane;

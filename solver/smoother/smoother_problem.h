@@ -32,6 +32,7 @@
 #include "solver/smoother/imu_preintegration.h"
 #include "solver/smoother/residuals/marginal_prior_factor.h"
 #include "solver/smoother/smoother_covariance.h"
+#include "solver/smoother/track_landmarks.h"
 
 namespace mavloc {
 
@@ -47,6 +48,9 @@ enum class LandmarkMode {
   kKnown,          // positions from map.landmarks_W, constant
   kUnknownGround,  // parameters on the ground plane z = 0 (three-point scenario gauge, see .cc)
   kUnknown,        // free 3-D parameters (gauge from a prior on the first pose)
+  // Feature tracks (frontends/features/): each landmark anchored in its first keyframe and
+  // parameterised by inverse depth (track_landmarks.h); features0 and features1; gauge as kUnknown.
+  kTracks,
 };
 
 // How the marginal covariances (compute_covariance, calibration_covariance) are computed. Both give
@@ -84,6 +88,12 @@ struct SmootherProblemOptions {
   double laser_sigma_rad = 0.0174533;    // laser0
   bool features_as_bearings = false;     // features0 residual: pixels (false) or bearings (true)
   LandmarkMode landmarks = LandmarkMode::kKnown;
+  TrackLandmarkOptions tracks;  // kTracks
+  // Keyframes at which the vehicle is known to be at rest (feature tracks that do not move,
+  // track_keyframes.h StationaryFrames): a prior v_W = 0 on each, a zero-velocity update. A static
+  // mono camera sees no parallax, so nothing else stops an accelerometer bias from moving it.
+  std::vector<TimeNs> zero_velocity_times;
+  double zero_velocity_sigma_m_s = 0.02;
   // kUnknownGround: the distance D = |P1 P2| when given (as the closed-form solvers are given it);
   // unset = estimated from the IMU.
   std::optional<double> given_D_m;

@@ -174,6 +174,36 @@ TEST(Interrupt, SigtermDuringAReproKeepsTheOldReport) {
   EXPECT_TRUE(fs::is_empty(tmp)) << fs::directory_iterator(tmp)->path();
 }
 
+TEST(Interrupt, SigtermDuringFiguresLeavesNoFigureThePageDoesNotList) {
+  const std::string base = testing::MakeTempDir();
+  const std::string work = base + "/work";
+  fs::create_directories(work);
+  const auto made =
+      testing::RunCommand("cd " + work + " && MAVLOC_FIGURES=0 " + testing::CliPath() +
+                          " repro laser --runs 2 --set euroc=false --report report");
+  ASSERT_EQ(made.exit_code, 0) << made.output;
+  // A stand-in interpreter that draws one figure where it is told to (--out-dir, else the report
+  // folder), announces it and then takes its time.
+  testing::WriteFileBytes(work + "/python",
+                          "#!/bin/sh\nout=\"$2\"\nwhile [ $# -gt 0 ]; do\n"
+                          "  [ \"$1\" = --out-dir ] && out=\"$2\"\n  shift\ndone\n"
+                          "printf 'PNG' > \"$out/new.png\"\nprintf 'figure\\tnew.png\\tnew\\n'\n"
+                          "touch " +
+                              work + "/drawn\nsleep 5\n");
+  fs::permissions(work + "/python", fs::perms::owner_all);
+  const Interrupted r =
+      RunAndInterrupt({"figures", "report"}, work, [&] { return fs::exists(work + "/drawn"); },
+                      SIGTERM, {"MAVLOC_FIGURES=1", "MAVLOC_PYTHON=" + work + "/python"});
+  ASSERT_TRUE(r.signalled) << r.stderr_text;
+  EXPECT_EQ(r.exit_code, 143) << r.stderr_text;
+  const bool listed =
+      testing::ReadFileBytes(work + "/report/report.html").find("new.png") != std::string::npos;
+  EXPECT_EQ(fs::exists(work + "/report/new.png"), listed)
+      << "a figure that report.html does not list (or the reverse)";
+  EXPECT_TRUE(TemporaryLeftovers(work).empty()) << TemporaryLeftovers(work).front();
+  fs::remove_all(base);
+}
+
 // ---- Temporaries in $TMPDIR and beside the output
 
 // The names in `dir`, for messages.

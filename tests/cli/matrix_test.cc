@@ -5,10 +5,12 @@
 // bold on every sequence, the paired test finds it lower on all three, the bootstrap intervals are
 // the same for the same seed, and the report follows the one schema.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -158,6 +160,143 @@ TEST(Matrix, AFolderOutsideTheLayoutIsRefused) {
   EXPECT_EQ(run.exit_code, 2) << run.output;
   EXPECT_NE(run.output.find("stamped_groundtruth.txt"), std::string::npos) << run.output;
   EXPECT_FALSE(fs::exists(dir + "/m"));
+}
+
+// ---- Hostile layouts, table-driven: refused naming the path, or run with every unused file said
+
+// A small layout without shared data: ROOT/vio/mav_vio_seq with a truth and two runs.
+std::string SmallLayout(const std::string& dir, const std::string& estimator = "vio") {
+  const std::string folder = dir + "/mav/" + estimator + "/mav_" + estimator + "_seq";
+  fs::create_directories(folder);
+  std::vector<Row> rows;
+  for (int i = 0; i < 300; ++i) {
+    const double s = 0.05 * i;
+    rows.push_back({100.0 + 0.05 * i, std::sin(s), std::sin(2 * s), 0.1 * s, 0, 0, 0, 1});
+  }
+  WriteTum(folder + "/stamped_groundtruth.txt", rows, 0.0, 0);
+  WriteTum(folder + "/stamped_traj_estimate0.txt", rows, 0.01, 1);
+  WriteTum(folder + "/stamped_traj_estimate1.txt", rows, 0.01, 2);
+  return folder;
+}
+
+struct MatrixCase {
+  const char* name;
+  std::function<void(const std::string& sequence_folder)> prepare;
+  std::string options;                                       // after ROOT
+  int exit_code;                                             // 2: refused, 0: run
+  std::vector<std::string> must_contain;                     // in the output (stderr and stdout)
+  std::function<void(const std::string& out)> check_report;  // for runs
+};
+
+TEST(Matrix, HostileLayoutsAreRefusedOrEveryUnusedFileIsSaid) {
+  const std::vector<MatrixCase> cases = {
+      {"a named pipe named like a run (blocked open() before)",
+       [](const std::string& f) {
+         fs::remove(f + "/stamped_traj_estimate1.txt");
+         ASSERT_EQ(::mkfifo((f + "/stamped_traj_estimate1.txt").c_str(), 0644), 0);
+       },
+       "",
+       2,
+       {"stamped_traj_estimate1.txt", "named pipe"},
+       nullptr},
+      {"a sequence folder that is a link to itself",
+       [](const std::string& f) {
+         fs::create_directory_symlink("mav_vio_loop", fs::path(f).parent_path() / "mav_vio_loop");
+       },
+       "",
+       2,
+       {"mav_vio_loop", "loop of symbolic links"},
+       nullptr},
+      {"a run file that is a link to itself",
+       [](const std::string& f) {
+         fs::remove(f + "/stamped_traj_estimate1.txt");
+         fs::create_symlink("stamped_traj_estimate1.txt", f + "/stamped_traj_estimate1.txt");
+       },
+       "",
+       2,
+       {"stamped_traj_estimate1.txt", "loop of symbolic links"},
+       nullptr},
+      {"--t-max-diff nan",
+       [](const std::string&) {},
+       "--t-max-diff nan",
+       2,
+       {"--t-max-diff", "not a finite number"},
+       nullptr},
+      {"--t-max-diff inf",
+       [](const std::string&) {},
+       "--t-max-diff inf",
+       2,
+       {"--t-max-diff"},
+       nullptr},
+      {"a run number beyond six digits",
+       [](const std::string& f) {
+         fs::copy_file(f + "/stamped_traj_estimate0.txt",
+                       f + "/stamped_traj_estimate999999999.txt");
+       },
+       "",
+       0,
+       {"warning", "stamped_traj_estimate999999999.txt", "run number beyond 999999"},
+       [](const std::string& out) {
+         EXPECT_NE(ReadFileBytes(out + "/report.md").find("stamped_traj_estimate999999999.txt"),
+                   std::string::npos);
+       }},
+      {"an unnumbered run beside numbered ones",
+       [](const std::string& f) {
+         fs::copy_file(f + "/stamped_traj_estimate0.txt", f + "/stamped_traj_estimate.txt");
+       },
+       "",
+       0,
+       {"warning", "stamped_traj_estimate.txt", "unnumbered run beside numbered"},
+       nullptr},
+      {"one run number twice (1 and 01)",
+       [](const std::string& f) {
+         fs::copy_file(f + "/stamped_traj_estimate1.txt", f + "/stamped_traj_estimate01.txt");
+       },
+       "",
+       0,
+       {"warning", "run 1 again"},
+       nullptr},
+      {"another file in a sequence folder is listed",
+       [](const std::string& f) { testing::WriteFileBytes(f + "/notes.txt", "x\n"); },
+       "",
+       0,
+       {"1 file(s) not used"},
+       [](const std::string& out) {
+         EXPECT_NE(ReadFileBytes(out + "/report.md").find("notes.txt"), std::string::npos);
+       }},
+  };
+  for (const MatrixCase& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string dir = MakeTempDir();
+    c.prepare(SmallLayout(dir));
+    if (HasFatalFailure()) return;
+    const auto run = RunCommand("cd " + dir + " && MAVLOC_FIGURES=0 timeout 60 " + CliPath() +
+                                " matrix mav " + c.options + " --out o");
+    EXPECT_EQ(run.exit_code, c.exit_code) << run.output;
+    EXPECT_EQ(run.output.find("internal error"), std::string::npos) << run.output;
+    for (const auto& text : c.must_contain)
+      EXPECT_NE(run.output.find(text), std::string::npos) << "'" << text << "' in " << run.output;
+    EXPECT_EQ(fs::exists(dir + "/o"), c.exit_code == 0);
+    for (const auto& entry : fs::directory_iterator(dir))
+      EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos)
+          << "left: " << entry.path();
+    if (c.check_report && c.exit_code == 0) c.check_report(dir + "/o");
+  }
+}
+
+TEST(Matrix, NamesThatAreCsvOrLatexSyntaxAreQuotedAndEscaped) {
+  const std::string dir = MakeTempDir();
+  SmallLayout(dir, "ok,vis");
+  SmallLayout(dir, "a\\b~c");
+  const auto run =
+      RunCommand("cd " + dir + " && MAVLOC_FIGURES=0 " + CliPath() + " matrix mav --out o");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::string runs = ReadFileBytes(dir + "/o/runs.csv");
+  EXPECT_NE(runs.find("\"ok,vis\",seq,0,"), std::string::npos) << runs;
+  EXPECT_NE(ReadFileBytes(dir + "/o/relative_errors.csv").find("\"ok,vis\",seq,"),
+            std::string::npos);
+  const std::string tex = ReadFileBytes(dir + "/o/matrix.tex");
+  EXPECT_NE(tex.find("a\\textbackslash{}b\\textasciitilde{}c"), std::string::npos) << tex;
 }
 
 }  // namespace

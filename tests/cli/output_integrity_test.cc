@@ -2,7 +2,10 @@
 // simulated into the folder of another keeps none of the old streams, a report folder keeps no
 // file of an earlier report, and a folder that is neither empty nor of the same kind is refused
 // untouched. No staging folder "*.tmp-<pid>" is left beside the output.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -134,6 +137,40 @@ TEST(OutputIntegrity, FailedRunLeavesTheOldReportUntouched) {
   std::ifstream json(report + "/report.json");
   std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
   EXPECT_EQ(text, "{\"old\": true}\n");
+  EXPECT_EQ(LeftoverCount(dir), 0);
+}
+
+// A second command writing the same --out while the first still works is refused: the first
+// holds the folder (cli/output_folder.h). Here the test process holds it as a command would.
+TEST(OutputIntegrity, AFolderAnotherCommandIsWritingIsRefused) {
+  const std::string dir = MakeTempDir();
+  {
+    std::ofstream gt(dir + "/gt.txt");
+    for (int i = 0; i < 50; ++i) gt << i * 0.1 << " " << i * 0.05 << " 0 0 0 0 0 1\n";
+  }
+  const std::string eval =
+      "eval --align none --gt " + dir + "/gt.txt --est " + dir + "/gt.txt --out " + dir + "/out";
+  for (const bool existing : {false, true}) {
+    SCOPED_TRACE(existing ? "an existing report, --force" : "a new folder");
+    fs::remove_all(dir + "/out");
+    fs::create_directories(dir + "/out");  // what the first command's mkdir made
+    if (existing) std::ofstream(dir + "/out/report.json") << "{\"first\": true}\n";
+    const int fd = ::open((dir + "/out").c_str(), O_RDONLY | O_DIRECTORY);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::flock(fd, LOCK_EX), 0);
+    const auto r = Mavloc(eval + (existing ? " --force" : ""));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("is being written by another mavloc command"), std::string::npos)
+        << r.output;
+    EXPECT_EQ(fs::exists(dir + "/out/report.json"), existing);
+    ::close(fd);
+    EXPECT_EQ(LeftoverCount(dir), 0);
+  }
+  // Without a holder the same command runs, and takes a new folder itself.
+  fs::remove_all(dir + "/out");
+  const auto r = Mavloc(eval);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir + "/out/report.json"));
   EXPECT_EQ(LeftoverCount(dir), 0);
 }
 

@@ -15,7 +15,10 @@
 #include <algorithm>
 #include <opencv2/imgproc.hpp>
 
+#include <sys/stat.h>
+
 #include "core/image_codec.h"
+#include "core/subprocess.h"
 #include "evaluation/report_html.h"
 #include "tests/test_support.h"
 
@@ -340,6 +343,70 @@ TEST(ReportFigures, MissingFolderOrUnknownFolderDoesNotThrow) {
   const FigureOutcome unknown = WriteReportFigures(empty);
   EXPECT_TRUE(unknown.figures.empty());
   EXPECT_NE(unknown.reason.find("no mavloc report"), std::string::npos);
+}
+
+// ---- The safe-write rule: figures and pages are renamed into place, never written through ----
+
+// Names in `dir` that are temporaries of a write (".tmp-" in the name).
+int Temporaries(const std::string& dir) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(dir))
+    count += entry.path().filename().string().find(".tmp-") != std::string::npos;
+  return count;
+}
+
+TEST(ReportFigures, PlantedLinksAreReplacedNotWrittenThrough) {
+  SKIP_WITHOUT_MATPLOTLIB();
+  const std::string dir = SampleCompareFolder();
+  const std::string victim = dir + "/../victim.txt";
+  Write(victim, "victim\n");
+  for (const char* name : {"trajectory.png", "errors_over_time.png", "report.html"})
+    fs::create_symlink("../victim.txt", dir + "/" + name);
+  const FigureOutcome outcome = WriteReportFigures(dir);
+  EXPECT_TRUE(outcome.ok()) << outcome.reason;
+  EXPECT_EQ(ReadAll(victim), "victim\n") << "a figure was written through a planted link";
+  for (const char* name : {"trajectory.png", "errors_over_time.png", "report.html"})
+    EXPECT_FALSE(fs::is_symlink(dir + "/" + name)) << name << " is still the planted link";
+  ExpectPng(dir + "/trajectory.png");
+  EXPECT_EQ(Temporaries(dir), 0);
+}
+
+TEST(ReportFigures, TheScriptRunByHandReplacesALinkToo) {
+  SKIP_WITHOUT_MATPLOTLIB();
+  const std::string dir = SampleEvalFolder();
+  Write(dir + "/../victim.txt", "victim\n");
+  fs::create_symlink("../victim.txt", dir + "/trajectory.png");
+  const ProgramRun run =
+      RunProgram({"/usr/bin/python3", testing::SourceDir() + "/scripts/figures/report_figures.py",
+                  dir, "--kind", "eval"});
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(ReadAll(dir + "/../victim.txt"), "victim\n");
+  EXPECT_FALSE(fs::is_symlink(dir + "/trajectory.png"));
+  ExpectPng(dir + "/trajectory.png");
+  EXPECT_EQ(Temporaries(dir), 0);
+}
+
+TEST(ReportFigures, ANamedPipeAmongTheFilesIsNeverOpened) {
+  SKIP_WITHOUT_MATPLOTLIB();
+  // The script would block in open() on a FIFO named like an input: it is not handed to it.
+  const std::string dir = SampleCompareFolder();
+  fs::remove(dir + "/errors.csv");
+  ASSERT_EQ(::mkfifo((dir + "/errors.csv").c_str(), 0644), 0);
+  ASSERT_EQ(::mkfifo((dir + "/estimate_other.tum").c_str(), 0644), 0);
+  const FigureOutcome outcome = WriteReportFigures(dir);
+  EXPECT_NE(outcome.reason.find("errors.csv"), std::string::npos) << outcome.reason;
+  EXPECT_TRUE(fs::exists(dir + "/report.html"));
+}
+
+TEST(ReportFigures, AScriptFailureNamesTheFileInOneLine) {
+  SKIP_WITHOUT_MATPLOTLIB();
+  const std::string dir = SampleCompareFolder();
+  Write(dir + "/errors.csv", ReadAll(dir + "/errors.csv") + "smoother,x,m,\xff\xfe,1,0,1\n");
+  const FigureOutcome outcome = WriteReportFigures(dir);
+  EXPECT_NE(outcome.reason.find("the plotting script failed"), std::string::npos) << outcome.reason;
+  EXPECT_NE(outcome.reason.find("report_figures: errors.csv: "), std::string::npos)
+      << outcome.reason;
+  EXPECT_EQ(outcome.reason.find("Traceback"), std::string::npos) << outcome.reason;
 }
 
 TEST(ReportHtml, Base64MatchesTheRfc4648TestVectors) {

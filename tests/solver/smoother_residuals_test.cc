@@ -14,6 +14,7 @@
 #include "core/rotation.h"
 #include "solver/smoother/imu_preintegration.h"
 #include "solver/smoother/imu_time_shift.h"
+#include "solver/smoother/residuals/anchored_bearing_factor.h"
 #include "solver/smoother/residuals/bias_random_walk_factor.h"
 #include "solver/smoother/residuals/calibrated_reprojection_factor.h"
 #include "solver/smoother/residuals/feature_bearing_factor.h"
@@ -539,6 +540,59 @@ TEST_F(ResidualTest, CalibratedReprojectionFactorWithTimeOffsetTiltAndExtrinsic)
   b.AddVector(T_B_C.p);
   b.AddVector(Eigen::VectorXd::Zero(1));
   EXPECT_LT((Evaluate(*fixed, a) - Evaluate(*general, b)).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace mavloc
+
+namespace mavloc {
+namespace {
+
+// An anchored track seen from two keyframes: zero residual at the truth, a residual that a wrong
+// inverse depth makes, and Jacobians against central differences on the manifold.
+TEST_F(ResidualTest, AnchoredBearingFactorOverTwoKeyframes) {
+  const Pose T_B_C = TestExtrinsic();
+  const Pose T_W_Ba(ExpQuaternion(Eigen::Vector3d(0.05, -0.1, 0.3)), Eigen::Vector3d(0, 0, 1));
+  const Pose T_W_Bo(ExpQuaternion(Eigen::Vector3d(0.02, 0.08, 0.5)),
+                    Eigen::Vector3d(0.4, -0.2, 1.1));
+  const Eigen::Vector3d b_Ca = Eigen::Vector3d(0.1, -0.2, 1.0).normalized();
+  const double depth_m = 2.5;
+  const Eigen::Vector3d p_W = (T_W_Ba * T_B_C) * Eigen::Vector3d(depth_m * b_Ca);
+  const Eigen::Vector3d p_Co = (T_W_Bo * T_B_C).Inverse() * p_W;
+  const Eigen::Vector2d xy(p_Co.x() / p_Co.z(), p_Co.y() / p_Co.z());
+  std::unique_ptr<ceres::CostFunction> cost(
+      AnchoredBearingFactor::Create(T_B_C, b_Ca, T_B_C, xy, 0.002));
+  Blocks blocks;
+  blocks.AddQuaternion(T_W_Ba.q, &quaternion_manifold_);
+  blocks.AddVector(T_W_Ba.p);
+  blocks.AddQuaternion(T_W_Bo.q, &quaternion_manifold_);
+  blocks.AddVector(T_W_Bo.p);
+  blocks.AddVector(Eigen::VectorXd::Constant(1, 1.0 / depth_m));
+  EXPECT_LT(Evaluate(*cost, blocks).norm(), 1e-9);
+  blocks.values[4][0] = 1.0 / 4.0;  // the point placed too far
+  EXPECT_GT(Evaluate(*cost, blocks).norm(), 1.0);
+  ExpectJacobiansCorrect(*cost, blocks);
+  blocks.values[4][0] = 0.0;  // at infinity: a direction, still a finite residual
+  EXPECT_TRUE(Evaluate(*cost, blocks).allFinite());
+  ExpectJacobiansCorrect(*cost, blocks);
+}
+
+// The second camera of the anchor keyframe constrains the inverse depth alone (stereo).
+TEST_F(ResidualTest, AnchorStereoBearingFactor) {
+  const Pose T_B_C0 = TestExtrinsic();
+  const Pose T_B_C1 = T_B_C0 * Pose(Eigen::Quaterniond(Rz(0.01)), Eigen::Vector3d(0.11, 0, 0));
+  const Eigen::Vector3d b_C0 = Eigen::Vector3d(-0.2, 0.1, 1.0).normalized();
+  const double depth_m = 1.8;
+  const Eigen::Vector3d p_C1 = (T_B_C1.Inverse() * T_B_C0) * Eigen::Vector3d(depth_m * b_C0);
+  const Eigen::Vector2d xy(p_C1.x() / p_C1.z(), p_C1.y() / p_C1.z());
+  std::unique_ptr<ceres::CostFunction> cost(
+      AnchorStereoBearingFactor::Create(T_B_C0, b_C0, T_B_C1, xy, 0.002));
+  Blocks blocks;
+  blocks.AddVector(Eigen::VectorXd::Constant(1, 1.0 / depth_m));
+  EXPECT_LT(Evaluate(*cost, blocks).norm(), 1e-9);
+  blocks.values[0][0] = 1.0 / 3.0;
+  EXPECT_GT(Evaluate(*cost, blocks).norm(), 1.0);
+  ExpectJacobiansCorrect(*cost, blocks);
 }
 
 }  // namespace

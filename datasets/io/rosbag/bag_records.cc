@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "core/input_file.h"
 
 namespace mavloc::ros1 {
 
@@ -110,6 +111,7 @@ std::string CheckIndexEntries(std::ifstream& in, uint64_t record_offset, uint64_
 }  // namespace
 
 BagRecordScan ScanBagRecords(const std::string& path) {
+  RequireRegularFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "", "cannot open the bag");
   BagRecordScan scan;

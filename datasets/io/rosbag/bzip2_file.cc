@@ -1,7 +1,9 @@
 #include "datasets/io/rosbag/bzip2_file.h"
 
 #include <bzlib.h>
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +12,7 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "core/input_file.h"
 #include "core/progress.h"
 
 namespace mavloc::ros1 {
@@ -71,6 +74,7 @@ void ReadBzip2(std::FILE* file, const std::string& path, Sink&& sink) {
 }  // namespace
 
 bool IsBzip2File(const std::string& path) {
+  if (!NotARegularFile(path).empty()) return false;  // a pipe would block the open
   std::ifstream in(path, std::ios::binary);
   char magic[3] = {};
   return in.read(magic, 3) && magic[0] == 'B' && magic[1] == 'Z' && magic[2] == 'h';
@@ -95,7 +99,11 @@ std::string ReadBzip2Prefix(const std::string& path, std::size_t max_bytes) {
 void DecompressBzip2File(const std::string& bz2_path, const std::string& out_path) {
   FilePtr in(std::fopen(bz2_path.c_str(), "rb"));
   if (!in) throw InputError(bz2_path, 0, "", "cannot open the file");
-  FilePtr out(std::fopen(out_path.c_str(), "wb"));
+  // Created exclusively: a name planted in the shared temporary folder (a link) is never opened.
+  const int out_fd =
+      ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+  FilePtr out(out_fd >= 0 ? ::fdopen(out_fd, "wb") : nullptr);
+  if (!out && out_fd >= 0) ::close(out_fd);
   if (!out) throw InputError(out_path, 0, "", "cannot create the temporary decompressed bag");
   uint64_t written = 0;
   uint64_t next_report = 256ull << 20;

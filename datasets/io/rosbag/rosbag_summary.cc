@@ -8,6 +8,7 @@
 #include <set>
 
 #include "core/errors.h"
+#include "core/input_file.h"
 #include "datasets/io/rosbag/bag_records.h"
 #include "datasets/io/rosbag/bzip2_file.h"
 #include "datasets/io/rosbag/opened_bag.h"
@@ -40,6 +41,7 @@ bool IsReadable(const std::string& type) {
 
 bool IsRosbagFile(const std::string& path) {
   const size_t n = std::strlen(kBagMagic);
+  if (!NotARegularFile(path).empty()) return false;  // a pipe would block the open
   std::ifstream in(path, std::ios::binary);
   std::string start(n, '\0');
   if (!in.read(start.data(), static_cast<std::streamsize>(n))) return false;

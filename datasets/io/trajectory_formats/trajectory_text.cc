@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "core/errors.h"
+#include "core/input_file.h"
 #include "core/number_text.h"
 
 namespace mavloc {
@@ -82,11 +83,7 @@ std::vector<std::string_view> TrajectoryText::Fields(const TrajectoryRow& row) c
 
 TrajectoryRowStream::TrajectoryRowStream(const std::string& path)
     : path_(path), file_(nullptr, &std::fclose) {
-  namespace fs = std::filesystem;
-  if (!fs::exists(path)) throw InputError(path, 0, "", "file does not exist");
-  if (fs::is_directory(path)) throw InputError(path, 0, "", "is a folder, not a file");
-  file_.reset(std::fopen(path.c_str(), "rb"));
-  if (!file_) throw InputError(path, 0, "", "cannot open file");
+  file_.reset(OpenRegularFileStream(path));  // a pipe, a device, a loop: refused, never blocks
   buffer_.resize(size_t{1} << 20);
 }
 

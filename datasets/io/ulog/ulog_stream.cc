@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "core/input_file.h"
 #include "datasets/io/ulog/ulog_format.h"
 
 namespace mavloc::ulog {
@@ -23,8 +24,7 @@ constexpr size_t kBufferBytes = 1 << 20;
 }  // namespace
 
 MessageStream::MessageStream(const std::string& path) : path_(path) {
-  file_ = std::fopen(path.c_str(), "rb");
-  if (file_ == nullptr) throw InputError(path, 0, "", "cannot open the ULog file");
+  file_ = OpenRegularFileStream(path);  // a pipe, a device, a loop: refused, never blocks
   if (std::fseek(file_, 0, SEEK_END) == 0) {
     const long size = std::ftell(file_);
     if (size > 0) file_bytes_ = static_cast<uint64_t>(size);

@@ -1,0 +1,277 @@
+// SmootherEstimator on feature tracks (features0/features1 of unknown landmarks, written by
+// frontends/features/): keyframes by parallax (track_keyframes.h), the first keyframe's state from
+// the ground truth or a static start, then a growing window: keyframes predicted by the IMU from
+// the last solved one, new tracks triangulated from the solved poses (track_triangulation.h), the
+// whole window solved (inverse-depth landmarks anchored in their first keyframe,
+// track_landmarks.h), until every keyframe is in; then the tracks whose reprojection error stays
+// high are removed and the batch solved once more.
+#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "core/rotation.h"
+#include "solver/estimators/smoother_common.h"
+#include "solver/estimators/smoother_estimator.h"
+#include "solver/imu/imu_integrator.h"
+#include "solver/smoother/track_keyframes.h"
+#include "solver/smoother/track_triangulation.h"
+
+namespace mavloc {
+
+namespace {
+
+constexpr double kStaticWindowS = 0.5;  // accelerometer mean for a start without ground truth
+constexpr double kDefaultTrackStepS = 2.0;
+constexpr double kDefaultTrackOutlierPx = 3.0;
+// A frame whose tracks moved less than this since the previous frame shows the vehicle at rest:
+// 0.3 px at EuRoC's 458 px focal length is 0.65 mrad, 2 mm at 3 m in 50 ms (4 cm/s).
+constexpr double kStationaryPx = 0.3;
+
+// The first keyframe's state: the ground truth's (interpolated) pose and velocity where the truth
+// covers t0_ns; otherwise at rest at the origin with yaw 0, roll and pitch from the accelerometer's
+// mean over kStaticWindowS. Biases start at zero (their prior is the smoother's).
+ImuKeyframeState StartState(const Dataset& dataset, TimeNs t0_ns, std::string* how) {
+  ImuKeyframeState s;
+  const auto& truth = dataset.ground_truth;
+  if (!truth.empty() && truth.front().t_ns <= t0_ns && t0_ns <= truth.back().t_ns) {
+    const GroundTruthState gt = InterpolatedTruth(truth, t0_ns);
+    s.q_W_B = gt.T_W_B.q;
+    s.p_W = gt.T_W_B.p;
+    s.v_W = gt.v_W;
+    *how = "the first keyframe starts at the ground truth's pose and velocity";
+    return s;
+  }
+  Eigen::Vector3d f_B = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (const ImuSample& sample : dataset.imu.samples) {
+    if (sample.t_ns < t0_ns) continue;
+    if (NsToSeconds(sample.t_ns - t0_ns) > kStaticWindowS) break;
+    f_B += sample.accel_m_s2;
+    ++count;
+  }
+  if (count > 0 && f_B.norm() > 0.0) {
+    // At rest the specific force is -g: R_W_B f_B points up.
+    s.q_W_B = Eigen::Quaterniond::FromTwoVectors(f_B.normalized(), Eigen::Vector3d::UnitZ());
+    const EulerRpy rpy = EulerFromQuaternion(s.q_W_B);
+    s.q_W_B = QuaternionFromEuler({rpy.roll, rpy.pitch, 0.0});
+  }
+  *how = fmt::format(
+      "no ground truth at the first keyframe: it starts at rest at the origin with yaw 0, roll and "
+      "pitch from the accelerometer's mean over {:g} s",
+      kStaticWindowS);
+  return s;
+}
+
+SmootherKeyframe Predicted(const ImuIntegrator& integrator, const SmootherKeyframe& from,
+                           TimeNs t_ns) {
+  NavState state;
+  state.t_ns = from.t_ns;
+  state.q_W_B = from.state.q_W_B;
+  state.p_W = from.state.p_W;
+  state.v_W = from.state.v_W;
+  const NavState next = integrator.Integrate(state, t_ns, from.state.biases);
+  SmootherKeyframe kf;
+  kf.t_ns = t_ns;
+  kf.state.q_W_B = next.q_W_B;
+  kf.state.p_W = next.p_W;
+  kf.state.v_W = next.v_W;
+  kf.state.biases = from.state.biases;
+  return kf;
+}
+
+// Per track, the RMS angular error of its observations at the solution; tracks above max_rad are
+// returned.
+std::set<int> OutlierTracks(const Dataset& tracked, const SmootherResult& result, double max_rad) {
+  std::vector<TimeNs> times;
+  for (const auto& kf : result.keyframes) times.push_back(kf.t_ns);
+  std::map<int, std::pair<double, int>> sum;  // id -> (sum of squared errors, count)
+  for (const std::vector<FeatureObservation>* stream : {&tracked.features, &tracked.features1}) {
+    for (const FeatureObservation& obs : *stream) {
+      auto p = result.landmarks_W.find(obs.landmark_id);
+      auto it = std::lower_bound(times.begin(), times.end(), obs.t_ns);
+      if (p == result.landmarks_W.end() || it == times.end() || *it != obs.t_ns) continue;
+      const ImuKeyframeState& s = result.keyframes[it - times.begin()].state;
+      const Pose T_C_W = (Pose(s.q_W_B, s.p_W) * tracked.cameras[obs.camera].T_B_C).Inverse();
+      const Eigen::Vector3d p_C = T_C_W * p->second;
+      const Eigen::Vector3d b = Eigen::Vector3d(obs.xy.x(), obs.xy.y(), 1.0).normalized();
+      const double error = std::acos(std::clamp(p_C.normalized().dot(b), -1.0, 1.0));
+      auto& [sq, n] = sum[obs.landmark_id];
+      sq += error * error;
+      ++n;
+    }
+  }
+  std::set<int> outliers;
+  for (const auto& [id, acc] : sum)
+    if (std::sqrt(acc.first / acc.second) > max_rad) outliers.insert(id);
+  return outliers;
+}
+
+void RemoveTracks(const std::set<int>& ids, std::vector<FeatureObservation>* features) {
+  features->erase(
+      std::remove_if(features->begin(), features->end(),
+                     [&](const FeatureObservation& f) { return ids.count(f.landmark_id) > 0; }),
+      features->end());
+}
+
+// The keyframes' poses, velocities and biases (and pose covariances in roll, pitch, yaw).
+void AppendKeyframeStates(const SmootherResult& result, Estimate* estimate) {
+  for (size_t k = 0; k < result.keyframes.size(); ++k) {
+    const SmootherKeyframe& kf = result.keyframes[k];
+    const Pose T_W_B(kf.state.q_W_B, kf.state.p_W);
+    std::vector<double> values = PoseQuantityValues(T_W_B, kf.state.v_W);
+    const ImuBiases& b = kf.state.biases;
+    values.insert(values.end(), {b.b_g.x(), b.b_g.y(), b.b_g.z(), b.b_a.x(), b.b_a.y(), b.b_a.z()});
+    estimate->quantities.Append(kf.t_ns, values);
+    estimate->poses.push_back({kf.t_ns, T_W_B});
+    if (k < result.pose_covariances.size() && result.pose_covariances[k]) {
+      Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Identity();
+      J.bottomRightCorner<3, 3>() = EulerJacobian(kf.state.q_W_B);
+      estimate->covariances.push_back({kf.t_ns, J * *result.pose_covariances[k] * J.transpose()});
+    }
+  }
+}
+
+}  // namespace
+
+bool HasFeatureTracks(const Dataset& dataset) {
+  return !dataset.features.empty() && dataset.map.landmarks_W.empty() &&
+         dataset.map.parameters.count("D") == 0;
+}
+
+SmootherResult SmootherEstimator::SolveTracksGrowing(const Dataset& tracked,
+                                                     const std::vector<TimeNs>& times,
+                                                     const ImuKeyframeState& start,
+                                                     const SmootherProblemOptions& options) const {
+  const TimeNs step_ns = SecondsToNs(options_.GetDouble("track_step_s", kDefaultTrackStepS));
+  const ImuIntegrator integrator(&tracked.imu.samples);
+  std::vector<SmootherKeyframe> current = {{times.front(), start}};
+  std::map<int, Eigen::Vector3d> landmarks;  // triangulated ones, then their solved positions
+  std::set<int> triangulated;
+  SmootherStatistics earlier;
+  size_t next = 1;
+  TimeNs window_end = times.front() + step_ns;
+  while (true) {
+    for (; next < times.size() && times[next] <= window_end; ++next)
+      current.push_back(Predicted(integrator, current.back(), times[next]));
+    for (const auto& [id, p] : TriangulateTracks(tracked, current, triangulated, {})) {
+      landmarks[id] = p;
+      triangulated.insert(id);
+    }
+    const bool last = next >= times.size();
+    SmootherProblemOptions stage = options;
+    if (!last) stage.compute_covariance = false;
+    SmootherResult result = SolveSmoother(tracked, current, landmarks, std::nullopt, stage);
+    if (!result.usable || result.keyframes.size() != current.size() || last) {
+      AddStatistics(earlier, &result.statistics);
+      if (!last && result.usable) {
+        result.usable = false;
+        result.message = fmt::format("the growing window stopped at {} of {} keyframes",
+                                     current.size(), times.size());
+      }
+      return result;
+    }
+    AddStatistics(result.statistics, &earlier);
+    current = result.keyframes;
+    for (auto& [id, p] : landmarks) p = result.landmarks_W.at(id);
+    window_end += step_ns;
+  }
+}
+
+Estimate SmootherEstimator::RunFromTracks(const Dataset& dataset) {
+  SmootherProblemOptions problem_options = ProblemOptionsFor(dataset);
+  problem_options.landmarks = LandmarkMode::kTracks;
+  const CameraSensor& cam0 = dataset.cameras.front();
+  if (!options_.Has("bearing_sigma_deg"))
+    problem_options.bearing_sigma_rad = problem_options.pixel_sigma_px / cam0.model.fu();
+  std::vector<std::string> names = PoseQuantityNames(true);
+  names.insert(names.end(), {"bgx", "bgy", "bgz", "bax", "bay", "baz"});
+  std::vector<std::string> units;
+  for (const auto& name : names) units.push_back(StandardUnit(name));
+  Estimate estimate;
+  estimate.quantities = QuantityTable(names, units);
+
+  TrackKeyframeOptions keyframe_options;
+  keyframe_options.focal_px = cam0.model.fu();
+  keyframe_options.min_parallax_px = options_.GetDouble("keyframe_parallax_px", 10.0);
+  keyframe_options.max_interval_s = options_.GetDouble("keyframe_max_interval_s", 0.5);
+  // With a ground truth the first keyframe starts at its state (the gauge of the comparison, as
+  // imu-dead-reckoning starts): frames before the truth's first row are left out.
+  std::vector<TimeNs> times;
+  std::string left_out;
+  if (!dataset.imu.samples.empty()) {
+    TimeNs t_min = dataset.imu.samples.front().t_ns;
+    const TimeNs t_max = dataset.imu.samples.back().t_ns;
+    const auto& truth = dataset.ground_truth;
+    if (!truth.empty() && truth.front().t_ns > t_min && truth.front().t_ns < t_max &&
+        truth.front().t_ns > dataset.features.front().t_ns) {
+      t_min = truth.front().t_ns;
+      left_out =
+          fmt::format("the frames before the ground truth's first row ({:.3f} s) are left out; ",
+                      NsToSeconds(t_min - dataset.features.front().t_ns));
+    }
+    times = SelectTrackKeyframes(dataset.features, keyframe_options, t_min, t_max);
+  }
+  if (times.size() < 2) {
+    estimate.CountFailure("fewer than 2 keyframes with feature tracks inside the IMU stream");
+    last_result_ = SmootherResult{};
+    return estimate;
+  }
+  // Zero-velocity updates where the images stand still (kStationaryPx between consecutive frames).
+  for (const TimeNs t : StationaryFrames(dataset.features, kStationaryPx, cam0.model.fu()))
+    if (std::binary_search(times.begin(), times.end(), t))
+      problem_options.zero_velocity_times.push_back(t);
+  Dataset tracked = dataset;
+  tracked.features = FeaturesAtTimes(dataset.features, times);
+  tracked.features1 = FeaturesAtTimes(dataset.features1, times);
+  std::string start_how;
+  const ImuKeyframeState start = StartState(dataset, times.front(), &start_how);
+  estimate.events.push_back(fmt::format(
+      "feature tracks: {} keyframes of {} frames (parallax {:g} px, at most {:g} s apart), {} at "
+      "rest (zero-velocity prior); {}{}; "
+      "gauge: the first keyframe's position and yaw are held there by a prior (4 DoF, "
+      "unobservable with unknown landmarks)",
+      times.size(), dataset.cameras.front().frames.size(), keyframe_options.min_parallax_px,
+      keyframe_options.max_interval_s, problem_options.zero_velocity_times.size(), left_out,
+      start_how));
+
+  last_result_ = SolveTracksGrowing(tracked, times, start, problem_options);
+  // Tracks whose reprojection error stays high after the solve (a wrong match that the loss only
+  // down-weights) are removed and the batch solved once more from the solution.
+  const double outlier_px = options_.GetDouble("track_outlier_px", kDefaultTrackOutlierPx);
+  if (last_result_.usable) {
+    const std::set<int> outliers =
+        OutlierTracks(tracked, last_result_, outlier_px / cam0.model.fu());
+    if (!outliers.empty()) {
+      RemoveTracks(outliers, &tracked.features);
+      RemoveTracks(outliers, &tracked.features1);
+      std::map<int, Eigen::Vector3d> kept = last_result_.landmarks_W;
+      for (int id : outliers) kept.erase(id);
+      SmootherResult again =
+          SolveSmoother(tracked, last_result_.keyframes, kept, std::nullopt, problem_options);
+      if (again.usable) {
+        AddStatistics(last_result_.statistics, &again.statistics);
+        last_result_ = std::move(again);
+      }
+      estimate.events.push_back(fmt::format(
+          "removed {} of {} tracks whose reprojection error stayed above {:g} px after the solve",
+          outliers.size(), last_result_.landmarks_W.size() + outliers.size(), outlier_px));
+    }
+  }
+  RefitImuNoise(dataset, problem_options, &last_result_, &estimate);
+  const SmootherResult& result = last_result_;
+  if (!result.usable) {
+    estimate.failures["smoother: " +
+                      (result.message.empty() ? std::string("no solution") : result.message)] +=
+        static_cast<int>(times.size());
+    return estimate;
+  }
+  estimate.parameters["tracks"] = {static_cast<double>(result.landmarks_W.size()), std::nullopt,
+                                   ""};
+  if (problem_options.compute_covariance) estimate.covariance_names = PoseQuantityNames(false);
+  AppendKeyframeStates(result, &estimate);
+  NoteUnconverged(result, problem_options.max_iterations, &estimate);
+  return estimate;
+}
+
+}  // namespace mavloc
