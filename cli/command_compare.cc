@@ -129,6 +129,7 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
     StagedFolder report(args->report, FolderKind::kReport, args->force);
 
     Dataset dataset;
+    std::filesystem::path render_scratch;
     if (!args->dataset.empty() && !args->settings.empty())
       throw InputError("--set " + args->settings.front() +
                        ": scenario settings apply to --scenario, not to --dataset");
@@ -142,8 +143,16 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       options.seed = args->seed;
       if (args->duration_s > 0) options.duration_s = args->duration_s;
       options.settings = ParseKeyValues(args->settings, "--set");
-      dataset = SimulateScenario(args->scenario.empty() ? DefaultScenarioName() : args->scenario,
-                                 options);
+      const std::string name = args->scenario.empty() ? DefaultScenarioName() : args->scenario;
+      // A scenario measured by its images renders them into a scratch folder of the report,
+      // removed once the features are tracked.
+      const ScenarioEntry* entry = FindScenario(name);
+      if (entry != nullptr && entry->measures_by_images) {
+        options.render_images = true;
+        render_scratch = std::filesystem::path(report.path()) / ".render-scratch";
+        options.image_dir = render_scratch.string();
+      }
+      dataset = SimulateScenario(name, options);
     }
     // An image log without a feature stream: the smoother's visual residuals from tracked features.
     std::optional<FeatureFrontendRun> frontend;
@@ -154,6 +163,7 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       for (const auto& warning : frontend->result.warnings)
         std::printf("warning: feature frontend: %s\n", warning.c_str());
     }
+    if (!render_scratch.empty()) std::filesystem::remove_all(render_scratch);
     if (args->reference.empty() && dataset.ground_truth.empty() && dataset.truth_quantities.empty())
       throw InputError(args->dataset, 0, "",
                        "dataset has no ground truth to compare against: name a reference with "

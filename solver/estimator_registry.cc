@@ -94,6 +94,7 @@ const std::map<std::string, OptionRange>& OptionRanges() {
       {"keyframe_max_interval_s", {0.0, 10.0, true, "s"}},
       {"track_outlier_px", {0.0, limits::kMaxPixelCoordinate, true, "px"}},
       {"track_step_s", {0.0, 3600.0, true, "s"}},
+      {"track_window_s", {0.0, 3600.0, false, "s"}},
       // Counts and seeds.
       {"threads", {1.0, 256.0, false, ""}},
       {"max_iterations", {1.0, 1e6, false, ""}},
@@ -300,6 +301,7 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
            "time_offset_init_ms",
            "track_outlier_px",
            "track_step_s",
+           "track_window_s",
            "verbose",
            "window_overlap_s",
            "window_s"},

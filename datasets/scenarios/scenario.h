@@ -90,6 +90,10 @@ struct ScenarioEntry {
   // generating anything.
   std::set<std::string> settings;
   std::function<Dataset(const ScenarioOptions&)> generate;
+  // The scenario's visual measurements are its rendered images (no simulated feature or tag
+  // stream): `compare --scenario` renders them, where other scenarios render with `simulate
+  // --render` only.
+  bool measures_by_images = false;
 };
 
 // The check ScenarioEntry::generate makes before generating (exposed for the CLI, which checks

@@ -2,12 +2,14 @@
 // entry here.
 #include "datasets/scenarios/aprilgrid_calibration.h"
 #include "datasets/scenarios/euroc_laser.h"
+#include "datasets/scenarios/euroc_vision.h"
 #include "datasets/scenarios/figure_eight.h"
 #include "datasets/scenarios/laser_plane.h"
 #include "datasets/scenarios/marker_board_flight.h"
 #include "datasets/scenarios/scenario.h"
 #include "datasets/scenarios/stereo_obstacles.h"
 #include "datasets/scenarios/tag_arena.h"
+#include "datasets/scenarios/textured_room_frames.h"
 #include "datasets/scenarios/three_point_hover.h"
 
 namespace mavloc {
@@ -26,6 +28,11 @@ ScenarioEntry Entry(std::string name, std::string description, std::set<std::str
     tracked.declared_settings = declared;
     return generate(tracked);
   };
+  return entry;
+}
+
+ScenarioEntry ImageEntry(ScenarioEntry entry) {
+  entry.measures_by_images = true;
   return entry;
 }
 
@@ -107,6 +114,12 @@ const std::vector<ScenarioEntry>& ScenarioRegistry() {
             {"data", "alpha_deg", "L", "clearance_m", "camera_rate_hz", "bearing_noise_deg", "imu",
              "imu_noise_model", "imu_noise_scale"},
             GenerateEurocLaser),
+      ImageEntry(Entry("euroc-vision",
+                       "real EuRoC V1_01_easy IMU + ground truth, cam0/cam1 rendered at 20 Hz in "
+                       "a room painted with photographs (natural features)",
+                       With(TexturedFrameSettingKeys(), {"data", "cameras", "camera_rate_hz",
+                                                         "image_scale", "texel_m", "start_s"}),
+                       GenerateEurocVision)),
       Entry("aprilgrid-calibration",
             "stereo rig waved before a tilted 6x6 aprilgrid (board map), "
             "known T_B_C and time offset; IMU 200 Hz, cams 20 Hz",

@@ -2,9 +2,10 @@
 // frontends/features/): keyframes by parallax (track_keyframes.h), the first keyframe's state from
 // the ground truth or a static start, then a growing window: keyframes predicted by the IMU from
 // the last solved one, new tracks triangulated from the solved poses (track_triangulation.h), the
-// whole window solved (inverse-depth landmarks anchored in their first keyframe,
-// track_landmarks.h), until every keyframe is in; then the tracks whose reprojection error stays
-// high are removed and the batch solved once more.
+// window solved (inverse-depth landmarks anchored in their first keyframe, track_landmarks.h;
+// keyframes older than track_window_s held constant), until every keyframe is in and the last
+// solve is the whole batch; then the tracks whose reprojection error stays high are removed and
+// the batch solved once more.
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "solver/estimators/smoother_common.h"
 #include "solver/estimators/smoother_estimator.h"
 #include "solver/imu/imu_integrator.h"
+#include "solver/smoother/smoother_windows.h"
 #include "solver/smoother/track_keyframes.h"
 #include "solver/smoother/track_triangulation.h"
 
@@ -23,6 +25,14 @@ namespace {
 
 constexpr double kStaticWindowS = 0.5;  // accelerometer mean for a start without ground truth
 constexpr double kDefaultTrackStepS = 2.0;
+// The sliding window of the growing solves: keyframes more than track_window_s before the newest
+// are held constant, and of those only the last kContextS seconds (longer than most tracks live)
+// stay in the problem. The last solve is the whole batch.
+constexpr double kDefaultTrackWindowS = 10.0;
+constexpr double kContextS = 3.0;
+// Ceres' relative tolerances on the tracks: the solves otherwise creep on for dozens of
+// iterations at relative cost changes of 1e-7, moving the poses by micrometres.
+constexpr double kTrackFunctionTolerance = 1e-8;
 constexpr double kDefaultTrackOutlierPx = 3.0;
 // A frame whose tracks moved less than this since the previous frame shows the vehicle at rest:
 // 0.3 px at EuRoC's 458 px focal length is 0.65 mrad, 2 mm at 3 m in 50 ms (4 cm/s).
@@ -132,6 +142,23 @@ void AppendKeyframeStates(const SmootherResult& result, Estimate* estimate) {
   }
 }
 
+// The keyframes [begin, end) of `all` and the measurements between them; of the features, only the
+// tracks that some keyframe at or after `free_begin` observes (the others touch constant poses
+// alone).
+Dataset SlidingWindowSlice(const Dataset& tracked, const std::vector<SmootherKeyframe>& all,
+                           size_t begin, size_t free_begin) {
+  Dataset slice = SliceForWindow(tracked, all[begin].t_ns, all.back().t_ns);
+  std::set<int> seen_free;
+  const TimeNs t_free = all[free_begin].t_ns;
+  for (const auto* stream : {&slice.features, &slice.features1})
+    for (const FeatureObservation& obs : *stream)
+      if (obs.t_ns >= t_free) seen_free.insert(obs.landmark_id);
+  for (auto* stream : {&slice.features, &slice.features1})
+    std::erase_if(*stream,
+                  [&](const FeatureObservation& obs) { return !seen_free.count(obs.landmark_id); });
+  return slice;
+}
+
 }  // namespace
 
 bool HasFeatureTracks(const Dataset& dataset) {
@@ -144,6 +171,8 @@ SmootherResult SmootherEstimator::SolveTracksGrowing(const Dataset& tracked,
                                                      const ImuKeyframeState& start,
                                                      const SmootherProblemOptions& options) const {
   const TimeNs step_ns = SecondsToNs(options_.GetDouble("track_step_s", kDefaultTrackStepS));
+  const double window_s = options_.GetDouble("track_window_s", kDefaultTrackWindowS);
+  const TimeNs window_ns = window_s > 0.0 ? SecondsToNs(window_s) : 0;
   const ImuIntegrator integrator(&tracked.imu.samples);
   std::vector<SmootherKeyframe> current = {{times.front(), start}};
   std::map<int, Eigen::Vector3d> landmarks;  // triangulated ones, then their solved positions
@@ -159,10 +188,25 @@ SmootherResult SmootherEstimator::SolveTracksGrowing(const Dataset& tracked,
       triangulated.insert(id);
     }
     const bool last = next >= times.size();
+    // Sliding: keyframes older than window_ns before the newest are held constant, and only
+    // kContextS of them (the poses the window's tracks were seen from before) stay in the problem.
+    size_t free_begin = 0;
+    if (window_ns > 0 && !last)
+      while (current[free_begin].t_ns < current.back().t_ns - window_ns) ++free_begin;
+    size_t begin = free_begin;
+    while (begin > 0 &&
+           current[begin - 1].t_ns >= current[free_begin].t_ns - SecondsToNs(kContextS))
+      --begin;
+    if (begin == free_begin && free_begin > 0) --begin;  // at least the IMU link into the window
     SmootherProblemOptions stage = options;
     if (!last) stage.compute_covariance = false;
-    SmootherResult result = SolveSmoother(tracked, current, landmarks, std::nullopt, stage);
-    if (!result.usable || result.keyframes.size() != current.size() || last) {
+    stage.constant_keyframes = static_cast<int>(free_begin - begin);
+    const Dataset slice =
+        free_begin > 0 ? SlidingWindowSlice(tracked, current, begin, free_begin) : Dataset{};
+    const std::vector<SmootherKeyframe> problem_keyframes(current.begin() + begin, current.end());
+    SmootherResult result = SolveSmoother(free_begin > 0 ? slice : tracked, problem_keyframes,
+                                          landmarks, std::nullopt, stage);
+    if (!result.usable || result.keyframes.size() != problem_keyframes.size() || last) {
       AddStatistics(earlier, &result.statistics);
       if (!last && result.usable) {
         result.usable = false;
@@ -172,8 +216,8 @@ SmootherResult SmootherEstimator::SolveTracksGrowing(const Dataset& tracked,
       return result;
     }
     AddStatistics(result.statistics, &earlier);
-    current = result.keyframes;
-    for (auto& [id, p] : landmarks) p = result.landmarks_W.at(id);
+    std::copy(result.keyframes.begin(), result.keyframes.end(), current.begin() + begin);
+    for (const auto& [id, p] : result.landmarks_W) landmarks[id] = p;
     window_end += step_ns;
   }
 }
@@ -181,6 +225,8 @@ SmootherResult SmootherEstimator::SolveTracksGrowing(const Dataset& tracked,
 Estimate SmootherEstimator::RunFromTracks(const Dataset& dataset) {
   SmootherProblemOptions problem_options = ProblemOptionsFor(dataset);
   problem_options.landmarks = LandmarkMode::kTracks;
+  problem_options.function_tolerance = kTrackFunctionTolerance;
+  problem_options.parameter_tolerance = kTrackFunctionTolerance;
   const CameraSensor& cam0 = dataset.cameras.front();
   if (!options_.Has("bearing_sigma_deg"))
     problem_options.bearing_sigma_rad = problem_options.pixel_sigma_px / cam0.model.fu();

@@ -274,6 +274,11 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
       problem.AddParameterBlock(b.b_g.data(), 3);
       problem.AddParameterBlock(b.b_a.data(), 3);
     }
+    const int num_constant = std::clamp(options.constant_keyframes, 0, n);
+    for (int k = 0; k < num_constant; ++k)
+      for (double* block : {blocks[k].q.data(), blocks[k].p.data(), blocks[k].v.data(),
+                            blocks[k].b_g.data(), blocks[k].b_a.data()})
+        problem.SetParameterBlockConstant(block);
 
     // Inertial factors.
     std::vector<ceres::ResidualBlockId> imu_group;
@@ -292,7 +297,9 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
                                        pre.dt_s()),
           nullptr, a.b_g.data(), a.b_a.data(), b.b_g.data(), b.b_a.data()));
     }
-    if (options.first_keyframe_prior) {
+    if (num_constant > 0) {
+      // The constant context holds the first keyframe's biases.
+    } else if (options.first_keyframe_prior) {
       problem.AddResidualBlock(new MarginalPriorFactor(*options.first_keyframe_prior), nullptr,
                                blocks[0].q.data(), blocks[0].p.data(), blocks[0].v.data(),
                                blocks[0].b_g.data(), blocks[0].b_a.data());
@@ -348,8 +355,11 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
             loss.get(), track.rho.data());
       } else {
         problem.AddResidualBlock(
-            AnchoredBearingFactor::Create(T_B_C0, track.b_anchor_C0, sensor.T_B_C, obs.xy,
-                                          options.bearing_sigma_rad),
+            options.autodiff_jacobians
+                ? AnchoredBearingFactorAutoDiff::Create(T_B_C0, track.b_anchor_C0, sensor.T_B_C,
+                                                        obs.xy, options.bearing_sigma_rad)
+                : AnchoredBearingFactor::Create(T_B_C0, track.b_anchor_C0, sensor.T_B_C, obs.xy,
+                                                options.bearing_sigma_rad),
             loss.get(), blocks[a].q.data(), blocks[a].p.data(), blocks[k].q.data(),
             blocks[k].p.data(), track.rho.data());
       }
@@ -537,6 +547,8 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
         options.landmarks != LandmarkMode::kKnown && num_visual > num_anchored;
     if (num_anchored > 0) {
       // Known map points fix all six degrees of freedom.
+    } else if (num_constant > 0) {
+      // A constant context keyframe fixes them (a sliding window).
     } else if (options.landmarks == LandmarkMode::kUnknownGround && unknown_landmarks_used) {
       // Three-point scenario (Troiani et al., sec. III, fig. 2): P1 (lowest id) is the origin, P2
       // lies on the x axis, the features are on the ground z = 0 (planar-ground assumption). The
@@ -609,8 +621,8 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
                                                                               : ceres::EIGEN_SPARSE;
     solver_options.num_threads = std::max(1, options.num_threads);
     solver_options.max_num_iterations = options.max_iterations;
-    solver_options.function_tolerance = 1e-12;
-    solver_options.parameter_tolerance = 1e-12;
+    solver_options.function_tolerance = options.function_tolerance;
+    solver_options.parameter_tolerance = options.parameter_tolerance;
     solver_options.gradient_tolerance = 1e-14;
     solver_options.minimizer_progress_to_stdout = options.verbose;
     ceres::Solver::Summary summary;

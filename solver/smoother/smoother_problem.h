@@ -73,6 +73,11 @@ struct SmootherProblemOptions {
   SmootherLoss loss = SmootherLoss::kHuber;
   double loss_scale = 2.0;  // in standard deviations (residuals are whitened)
   int max_iterations = 50;
+  // Ceres' stopping tolerances (relative cost change, relative step). The tight defaults make a
+  // converged solve agree to rounding between Jacobian implementations; the feature-track smoother
+  // stops at 1e-8, far below the change any measurement noise could make.
+  double function_tolerance = 1e-12;
+  double parameter_tolerance = 1e-12;
   int num_threads = 2;
   bool compute_covariance = false;
   SmootherCovarianceMethod covariance_method = SmootherCovarianceMethod::kStructured;
@@ -141,6 +146,11 @@ struct SmootherProblemOptions {
   // > 0: after the last solve, keyframes 0..m-1 and their residuals are eliminated onto keyframe m
   // (SmootherResult::marginal_prior, solver/smoother/smoother_marginalization.h).
   int marginalize_before_keyframe = 0;
+  // The first constant_keyframes keyframes are held at their initial states: the context of a
+  // sliding window, solved before, that fixes the gauge and carries what the measurements before
+  // the window said through the landmarks they share and the IMU factor into the window. No bias
+  // or gauge prior is added then.
+  int constant_keyframes = 0;
   // Dropped measurements at or after this time are not counted (the next window counts them).
   TimeNs count_dropped_before_ns = std::numeric_limits<TimeNs>::max();
 };

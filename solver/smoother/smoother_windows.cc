@@ -70,6 +70,7 @@ Dataset SliceForWindow(const Dataset& dataset, TimeNs t0_ns, TimeNs t1_ns) {
   slice.imu.samples.assign(first, last);
   for (CameraSensor& camera : slice.cameras) camera.frames = Within(camera.frames, t0_ns, t1_ns);
   slice.features = Within(dataset.features, t0_ns, t1_ns);
+  slice.features1 = Within(dataset.features1, t0_ns, t1_ns);
   slice.laser = Within(dataset.laser, t0_ns, t1_ns);
   slice.tags = Within(dataset.tags, t0_ns, t1_ns);
   slice.tags1 = Within(dataset.tags1, t0_ns, t1_ns);

@@ -577,6 +577,37 @@ TEST_F(ResidualTest, AnchoredBearingFactorOverTwoKeyframes) {
   ExpectJacobiansCorrect(*cost, blocks);
 }
 
+// The analytic Jacobians against central differences and the automatic ones on random poses,
+// bearings and depths (near, far and at infinity).
+TEST_F(ResidualTest, AnchoredBearingFactorAnalyticMatchesAutoDiff) {
+  const Pose T_B_Ca = TestExtrinsic();
+  const Pose T_B_Co = T_B_Ca * Pose(Eigen::Quaterniond(Rz(0.02)), Eigen::Vector3d(0.11, 0, 0));
+  for (int trial = 0; trial < 20; ++trial) {
+    const Pose T_W_Ba(RandomRotation(rng_, 0.5), rng_.Gaussian3(1.0));
+    const Pose T_W_Bo(RandomRotation(rng_, 0.5), rng_.Gaussian3(1.0));
+    const Eigen::Vector3d b_Ca(0.3 * rng_.Gaussian(), 0.3 * rng_.Gaussian(), 1.0);
+    const Eigen::Vector2d xy = 0.3 * rng_.GaussianVector<2>();
+    const double rho = trial % 5 == 0 ? 0.0 : std::exp(rng_.Gaussian()) / 3.0;
+    std::unique_ptr<ceres::CostFunction> analytic(
+        AnchoredBearingFactor::Create(T_B_Ca, b_Ca, T_B_Co, xy, 0.002));
+    std::unique_ptr<ceres::CostFunction> autodiff(
+        AnchoredBearingFactorAutoDiff::Create(T_B_Ca, b_Ca, T_B_Co, xy, 0.002));
+    Blocks blocks;
+    blocks.AddQuaternion(T_W_Ba.q, &quaternion_manifold_);
+    blocks.AddVector(T_W_Ba.p);
+    blocks.AddQuaternion(T_W_Bo.q, &quaternion_manifold_);
+    blocks.AddVector(T_W_Bo.p);
+    blocks.AddVector(Eigen::VectorXd::Constant(1, rho));
+    ExpectJacobiansCorrect(*analytic, blocks);
+    const Eigen::MatrixXd J_analytic = TangentJacobian(*analytic, blocks);
+    const Eigen::MatrixXd J_autodiff = TangentJacobian(*autodiff, blocks);
+    EXPECT_LT((J_analytic - J_autodiff).cwiseAbs().maxCoeff(),
+              1e-9 * (1.0 + J_autodiff.cwiseAbs().maxCoeff()))
+        << "trial " << trial;
+    EXPECT_LT((Evaluate(*analytic, blocks) - Evaluate(*autodiff, blocks)).norm(), 1e-9);
+  }
+}
+
 // The second camera of the anchor keyframe constrains the inverse depth alone (stereo).
 TEST_F(ResidualTest, AnchorStereoBearingFactor) {
   const Pose T_B_C0 = TestExtrinsic();

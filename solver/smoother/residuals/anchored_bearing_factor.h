@@ -11,6 +11,15 @@
 //
 // AnchoredBearingFactor: the observing keyframe differs from the anchor. Parameter blocks:
 //   q_W_Ba (4, x y z w), p_W_Ba (3), q_W_Bo (4), p_W_Bo (3), rho (1).
+//   Its Jacobians are analytic (the feature-track smoother's most numerous residual). With
+//   J_h = E (I - u u^T) / (|h| sigma), u = h / |h|, R_Co_W = R_B_Co^T R_W_Bo^T, rotations perturbed
+//   as R' = Exp(2 delta) R (quaternion_ambient.h), v_a = R_W_Ba (R_B_Ca b_a + rho p_B_Ca) and
+//   p_W_Co - p_W_Bo = R_W_Bo p_B_Co:
+//     dr/d delta_a = -2 J_h R_Co_W [v_a]x,               dr/dp_W_Ba = rho J_h R_Co_W,
+//     dr/d delta_o =  2 J_h R_Co_W ([h_W]x + rho [R_W_Bo p_B_Co]x),
+//     dr/dp_W_Bo = -rho J_h R_Co_W,                      dr/drho = J_h R_Co_W (p_W_Ca - p_W_Co).
+//   AnchoredBearingFactorAutoDiff is the same residual differentiated automatically, the reference
+//   the analytic Jacobians are checked against.
 // AnchorStereoBearingFactor: the other camera of the anchor keyframe (stereo): the relative pose
 //   is the extrinsics' T_Co_Ca, h = R_Co_Ca b_a + rho p_Co_Ca. Parameter block: rho (1).
 // InverseDepthPriorFactor: a weak prior rho ~ N(rho_mean, sigma^2) that keeps a track seen
@@ -18,6 +27,7 @@
 #pragma once
 
 #include <ceres/autodiff_cost_function.h>
+#include <ceres/sized_cost_function.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -39,10 +49,11 @@ bool WhitenedBearingResidual(const Eigen::Matrix<T, 3, 1>& h, const Eigen::Vecto
   return true;
 }
 
-class AnchoredBearingFactor {
+class AnchoredBearingFactorAutoDiff {
  public:
-  AnchoredBearingFactor(const Pose& T_B_Ca, const Eigen::Vector3d& b_anchor_Ca, const Pose& T_B_Co,
-                        const Eigen::Vector2d& xy_normalized, double sigma_rad)
+  AnchoredBearingFactorAutoDiff(const Pose& T_B_Ca, const Eigen::Vector3d& b_anchor_Ca,
+                                const Pose& T_B_Co, const Eigen::Vector2d& xy_normalized,
+                                double sigma_rad)
       : T_B_Ca_(T_B_Ca),
         T_B_Co_(T_B_Co),
         b_anchor_Ca_(b_anchor_Ca.normalized()),
@@ -70,13 +81,36 @@ class AnchoredBearingFactor {
   static ceres::CostFunction* Create(const Pose& T_B_Ca, const Eigen::Vector3d& b_anchor_Ca,
                                      const Pose& T_B_Co, const Eigen::Vector2d& xy_normalized,
                                      double sigma_rad) {
-    return new ceres::AutoDiffCostFunction<AnchoredBearingFactor, 2, 4, 3, 4, 3, 1>(
-        new AnchoredBearingFactor(T_B_Ca, b_anchor_Ca, T_B_Co, xy_normalized, sigma_rad));
+    return new ceres::AutoDiffCostFunction<AnchoredBearingFactorAutoDiff, 2, 4, 3, 4, 3, 1>(
+        new AnchoredBearingFactorAutoDiff(T_B_Ca, b_anchor_Ca, T_B_Co, xy_normalized, sigma_rad));
   }
 
  private:
   Pose T_B_Ca_, T_B_Co_;
   Eigen::Vector3d b_anchor_Ca_;
+  Eigen::Vector3d bearing_;
+  Eigen::Matrix<double, 2, 3> basis_;
+  double inv_sigma_;
+};
+
+class AnchoredBearingFactor : public ceres::SizedCostFunction<2, 4, 3, 4, 3, 1> {
+ public:
+  AnchoredBearingFactor(const Pose& T_B_Ca, const Eigen::Vector3d& b_anchor_Ca, const Pose& T_B_Co,
+                        const Eigen::Vector2d& xy_normalized, double sigma_rad);
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+  static ceres::CostFunction* Create(const Pose& T_B_Ca, const Eigen::Vector3d& b_anchor_Ca,
+                                     const Pose& T_B_Co, const Eigen::Vector2d& xy_normalized,
+                                     double sigma_rad) {
+    return new AnchoredBearingFactor(T_B_Ca, b_anchor_Ca, T_B_Co, xy_normalized, sigma_rad);
+  }
+
+ private:
+  Eigen::Matrix3d R_B_Ca_, R_B_Co_;
+  Eigen::Vector3d p_B_Ca_, p_B_Co_;
+  Eigen::Vector3d b_anchor_B_;  // R_B_Ca b_a
   Eigen::Vector3d bearing_;
   Eigen::Matrix<double, 2, 3> basis_;
   double inv_sigma_;
