@@ -82,7 +82,9 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
   command->add_option("--set", args->settings, "Scenario setting key=value (repeatable)");
   command->add_option("--option", args->options,
                       "Estimator option estimator:key=value or key=value for all (repeatable)");
-  command->add_option("--report", args->report, "Report folder (created)")->capture_default_str();
+  command->add_option("--report", args->report, "Report folder (created)")
+      ->check(OutputFolder())
+      ->capture_default_str();
   command->add_flag("--force", args->force,
                     "Replace an existing --report folder (a mavloc report)");
   command->add_option("--align", args->align, "ATE alignment: none, se3, sim3 or posyaw")
@@ -250,7 +252,7 @@ void RegisterCompare(CLI::App& app, int* exit_code) {
       throw InputError(
           "no estimator applies to " +
           (args->dataset.empty() ? "scenario " + dataset.scenario : "dataset " + args->dataset) +
-          ": " + reasons);
+          " (" + DescribeDatasetStreams(dataset) + "): " + reasons);
     }
 
     const std::string title = dataset.scenario.empty() ? dataset.name : dataset.scenario;

@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "datasets/io/trajectory_formats/kitti_poses.h"
@@ -26,7 +27,7 @@ void RegisterConvert(CLI::App& app, int* exit_code) {
   };
   auto args = std::make_shared<Args>();
   command->add_option("--in", args->in, "Input trajectory file")->required();
-  command->add_option("--out", args->out, "Output file")->required();
+  command->add_option("--out", args->out, "Output file")->check(OutputFile())->required();
   command->add_option("--format", args->format, "Output format: tum or kitti")
       ->required()
       ->check(CLI::IsMember({"tum", "kitti"}));

@@ -38,9 +38,11 @@ void RegisterDetectTags(CLI::App& app, int* exit_code) {
   auto* images_option =
       command->add_option("--images", args->images, "Folder of photos, or one image file");
   dataset_option->excludes(images_option);
-  command->add_option("--out", args->out,
-                      "Output CSV (required with --images; with --dataset default "
-                      "DIR/mav0/tags<k>/data.csv for the dataset's camera k)");
+  command
+      ->add_option("--out", args->out,
+                   "Output CSV (required with --images; with --dataset default "
+                   "DIR/mav0/tags<k>/data.csv for the dataset's camera k)")
+      ->check(OutputFile(/*parent_must_exist=*/false));  // created with --dataset
   command
       ->add_option("--camera", args->camera,
                    "Camera of the dataset (cam0 -> tags0, cam1 -> tags1), or 'all'")

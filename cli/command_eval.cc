@@ -186,19 +186,12 @@ LoadedTrajectory ReadEvalTrajectory(const std::string& path, const TrajectoryRea
   return loaded;
 }
 
-// One --est: a file or a folder of runs, every run read.
-struct Input {
-  std::string label, source;
-  bool is_folder = false;
-  std::vector<std::pair<std::string, LoadedTrajectory>> runs;
-};
-
 // Every --est, read before anything is evaluated: a bad file stops the command before any output.
-std::vector<Input> ReadInputs(const Args& a, std::vector<std::string>* notes) {
-  std::vector<Input> inputs;
+std::vector<EvalInput> ReadInputs(const Args& a, std::vector<std::string>* notes) {
+  std::vector<EvalInput> inputs;
   std::set<std::string> used_labels;
   for (size_t k = 0; k < a.est.size(); ++k) {
-    Input input;
+    EvalInput input;
     input.source = a.est[k];
     if (!fs::exists(input.source) && !ParseLogTopicSpec(input.source))
       throw InputError(input.source, 0, "", "file does not exist");
@@ -228,7 +221,7 @@ std::vector<Input> ReadInputs(const Args& a, std::vector<std::string>* notes) {
 // The ground truth and the estimates. The truth is read on a second thread while the estimates are
 // read on this one (plain files; a log topic's reader keeps to one thread); errors come in the
 // order of a serial read, the truth's first. Notes: the truth's, then the estimates'.
-std::pair<LoadedTrajectory, std::vector<Input>> ReadTruthAndInputs(
+std::pair<LoadedTrajectory, std::vector<EvalInput>> ReadTruthAndInputs(
     const Args& a, std::vector<std::string>* notes) {
   TrajectoryReadOptions truth_options;
   truth_options.format = FormatOption(a.gt_format, "--gt-format");
@@ -242,7 +235,7 @@ std::pair<LoadedTrajectory, std::vector<Input>> ReadTruthAndInputs(
   std::future<LoadedTrajectory> truth_future =
       std::async(any_log ? std::launch::deferred : std::launch::async,
                  [&] { return ReadEvalTrajectory(a.gt, truth_options, &truth_notes); });
-  std::vector<Input> inputs;
+  std::vector<EvalInput> inputs;
   std::exception_ptr input_error;
   try {
     inputs = ReadInputs(a, &input_notes);
@@ -262,7 +255,7 @@ std::pair<LoadedTrajectory, std::vector<Input>> ReadTruthAndInputs(
 }
 
 void Run(const Args& a) {
-  EvaluationProtocol protocol = ProtocolFromArgs(a);
+  const EvaluationProtocol protocol = ProtocolFromArgs(a);
   // The report folder is checked before any work and written whole (cli/output_folder.h).
   std::optional<StagedFolder> out;
   if (!a.out.empty()) out.emplace(a.out, FolderKind::kReport, a.force);
@@ -271,31 +264,13 @@ void Run(const Args& a) {
                      fmt::format("given {} times for {} --est: give one label per --est",
                                  a.labels.size(), a.est.size()));
   std::vector<std::string> notes;  // printed once everything is evaluated
-  // The report's files (truth, aligned estimates) are built only when a report is written.
-  const bool writes_report = out.has_value() || !a.json.empty();
-  protocol.keep_series = writes_report;
+  // What is built follows the outputs: the per-pair series, the aligned estimates and the report's
+  // files for the report folder alone; report.json needs the statistics, as the table does.
+  EvalOutputs outputs;
+  outputs.report_folder = out.has_value();
+  outputs.report_json = !a.json.empty();
   auto [truth, inputs] = ReadTruthAndInputs(a, &notes);
-  EvalReport report;
-  report.truth = truth.report;
-  report.relative_lengths_given = !protocol.relative_lengths_m.empty();
-  for (const auto& input : inputs) {
-    EvalEstimate estimate;
-    estimate.label = input.label;
-    estimate.source = input.source;
-    estimate.is_folder = input.is_folder;
-    for (size_t r = 0; r < input.runs.size(); ++r) {
-      EvalRun run = EvaluateRun(input.runs[r].first, input.runs[r].second, truth, protocol, a.gt,
-                                writes_report);
-      // rpg's default lengths come from the first evaluation; every other one uses the same.
-      if (protocol.relative_lengths_m.empty())
-        protocol.relative_lengths_m = run.evaluation.protocol.relative_lengths_m;
-      run.run = input.is_folder ? static_cast<int>(r + 1) : 0;
-      estimate.runs.push_back(std::move(run));
-    }
-    report.estimates.push_back(std::move(estimate));
-  }
-  report.protocol = protocol;
-  report.truth_poses = std::move(truth.poses);
+  const EvalReport report = EvaluateInputs(std::move(truth), a.gt, inputs, protocol, outputs);
   for (const std::string& note : notes) std::fprintf(stderr, "mavloc: note: %s\n", note.c_str());
 
   // evo-style statistics per run, then the table.
@@ -321,7 +296,7 @@ void Run(const Args& a) {
       for (const auto& message : r.evaluation.diagnostics.Messages())
         std::printf("diagnostic: %s%s: %s\n", e.label.c_str(),
                     r.run > 0 ? fmt::format(" run {}", r.run).c_str() : "", message.c_str());
-  if (!writes_report) return;
+  if (!outputs.report_folder && !outputs.report_json) return;
   const Report model = EvalModel(report);
   if (!a.json.empty()) WriteFileAtomically(a.json, ReportJsonText(model));
   if (out) {

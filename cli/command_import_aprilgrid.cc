@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "cli/output_folder.h"
 #include "core/interrupt.h"
 #include "core/progress.h"
@@ -50,6 +51,7 @@ void RegisterImportAprilgrid(CLI::App& app, int* exit_code) {
                       "IMU noise densities only: Kalibr imu.yaml, EuRoC imu0/sensor.yaml or yac "
                       "config.yaml (before --config)");
   command->add_option("--out", args->out, "Output dataset folder (must not exist or be empty)")
+      ->check(OutputFolder())
       ->required();
   command->add_flag("--force", args->force, "Replace a non-empty --out folder");
   command->callback([args, exit_code] {

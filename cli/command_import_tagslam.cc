@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "cli/output_folder.h"
 #include "core/interrupt.h"
 #include "core/progress.h"
@@ -27,6 +28,7 @@ void RegisterImportTagslam(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<Args>();
   command->add_option("TEST_DIR", args->options.test_dir, "TagSLAM test folder")->required();
   command->add_option("--out", args->out, "Output dataset folder (must not exist or be empty)")
+      ->check(OutputFolder())
       ->required();
   command->add_option("--tags", args->options.tags_bag,
                       "Detections bag (.bag or whole-file .bag.bz2; default: "

@@ -247,6 +247,7 @@ void RegisterImuNoise(CLI::App& app, int* exit_code) {
   command
       ->add_option("--out", args->out,
                    "Output folder: report.md, report.json, imu.yaml, allan_deviation.csv")
+      ->check(OutputFolder())
       ->required();
   command->add_option("--from", args->from_s, "Use samples from this many seconds after the first")
       ->check(FiniteNumber());

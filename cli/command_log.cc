@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "cli/output_folder.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
@@ -302,7 +303,8 @@ void RegisterLog(CLI::App& app, int* exit_code) {
   auto info_args = std::make_shared<std::pair<std::string, std::string>>();
   info->add_option("log", info_args->first, "ROS1 bag (.bag, .bag.bz2) or PX4 ULog (.ulg)")
       ->required();
-  info->add_option("--json", info_args->second, "Also write the summary as JSON to this file");
+  info->add_option("--json", info_args->second, "Also write the summary as JSON to this file")
+      ->check(OutputFile());
   info->callback([info_args, exit_code] {
     const LogSummary summary = SummarizeLog(info_args->first);
     PrintSummary(summary);
@@ -315,7 +317,9 @@ void RegisterLog(CLI::App& app, int* exit_code) {
       "export", "A trajectory topic of a log as a TUM file (LOG:TOPIC, LOG.bag:/tf:PARENT:CHILD)");
   auto export_args = std::make_shared<std::pair<std::string, std::string>>();
   to_tum->add_option("source", export_args->first, "LOG:TOPIC")->required();
-  to_tum->add_option("--out", export_args->second, "TUM file to write")->required();
+  to_tum->add_option("--out", export_args->second, "TUM file to write")
+      ->check(OutputFile())
+      ->required();
   to_tum->callback([export_args, exit_code] {
     const auto spec = ParseLogTopicSpec(export_args->first);
     if (!spec)
@@ -339,6 +343,7 @@ void RegisterLog(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<ImportArgs>();
   import->add_option("log", args->log, "ROS1 bag (.bag, .bag.bz2) or PX4 ULog (.ulg)")->required();
   import->add_option("--out", args->out, "Output dataset folder (must not exist or be empty)")
+      ->check(OutputFolder())
       ->required();
   import->add_option("--imu", args->imu,
                      "IMU topic -> imu0 (sensor_msgs/Imu; ULog sensor_combined or vehicle_imu)");

@@ -28,7 +28,9 @@ void RegisterMatrix(CLI::App& app, int* exit_code) {
   };
   auto args = std::make_shared<Args>();
   command->add_option("root", args->root, "Platform folder of the rpg layout")->required();
-  command->add_option("--out", args->out, "Report folder (created)")->required();
+  command->add_option("--out", args->out, "Report folder (created)")
+      ->check(OutputFolder())
+      ->required();
   command->add_option("--align", args->align, "Alignment: none, se3, sim3 or posyaw")
       ->capture_default_str();
   // Finite and at most an hour: CLI::PositiveNumber let "nan" through to blame a valid file.

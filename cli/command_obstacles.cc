@@ -6,12 +6,14 @@
 #include <set>
 
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "cli/output_folder.h"
 #include "core/errors.h"
 #include "core/key_values.h"
 #include "core/progress.h"
 #include "datasets/io/euroc_io.h"
 #include "evaluation/association.h"
+#include "evaluation/estimator_option_ranges.h"
 #include "evaluation/obstacle_evaluation.h"
 #include "evaluation/obstacle_report.h"
 #include "evaluation/report/report_folder.h"
@@ -100,7 +102,9 @@ void RegisterObstacles(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<Args>();
   command->add_option("--dataset", args->dataset, "Dataset folder with cam0/cam1 images")
       ->required();
-  command->add_option("--report", args->report, "Report folder (created)")->required();
+  command->add_option("--report", args->report, "Report folder (created)")
+      ->check(OutputFolder())
+      ->required();
   command->add_flag("--force", args->force,
                     "Replace an existing --report folder (a mavloc report)");
   command
@@ -122,7 +126,7 @@ void RegisterObstacles(CLI::App& app, int* exit_code) {
                        ": estimator options need --pose-source ESTIMATOR (the poses come from the "
                        "ground truth)");
     if (const EstimatorEntry* entry = FindEstimator(args->pose_source))
-      CheckEstimatorOptions(*entry, EstimatorOptions(estimator_options));
+      CheckEstimatorOptionValues(*entry, EstimatorOptions(estimator_options));
     // The report folder is checked before any work and written whole (cli/output_folder.h).
     StagedFolder report(args->report, FolderKind::kReport, args->force);
     ReportProgress("obstacles", "reading " + args->dataset);

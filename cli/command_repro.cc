@@ -30,6 +30,7 @@ void RegisterRepro(CLI::App& app, int* exit_code) {
   command
       ->add_option("--report", args->report,
                    "Report folder: created (an existing one only with --force)")
+      ->check(OutputFolder())
       ->required();
   command->add_flag("--force", args->force,
                     "Replace an existing --report folder (a mavloc report)");

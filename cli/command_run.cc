@@ -6,12 +6,14 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "cli/option_checks.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/progress.h"
 #include "core/text.h"
 #include "datasets/io/euroc_io.h"
 #include "datasets/io/tum_io.h"
+#include "evaluation/estimator_option_ranges.h"
 #include "evaluation/feature_frontend.h"
 #include "solver/estimator.h"
 
@@ -48,12 +50,14 @@ void RegisterRun(CLI::App& app, int* exit_code) {
       ->required();
   command
       ->add_option("--out", args->out, "Output file: .csv = quantities, otherwise TUM trajectory")
+      ->check(OutputFile())
       ->required();
   command->add_option("--option", args->options, "Estimator option key=value (repeatable)");
   command->callback([args, exit_code] {
     const EstimatorEntry* entry = FindEstimator(args->estimator);
     if (!entry) throw InputError("unknown estimator '" + args->estimator + "' (see `mavloc list`)");
     const EstimatorOptions options(ParseKeyValues(args->options, "--option"));
+    CheckEstimatorOptionValues(*entry, options);  // before the dataset is read
     auto estimator = entry->create(options);
     ReportProgress("run", "reading " + args->dataset);
     Dataset dataset = ReadEurocDataset(args->dataset);
@@ -67,7 +71,8 @@ void RegisterRun(CLI::App& app, int* exit_code) {
     const Applicability applicability = estimator->AppliesTo(dataset);
     if (!applicability.applies)
       throw InputError(args->dataset, 0, "",
-                       args->estimator + " does not apply: " + applicability.reason);
+                       args->estimator + " does not apply: " + applicability.reason + " (" +
+                           DescribeDatasetStreams(dataset) + ")");
     ReportProgress("run", "running " + args->estimator);
     const auto start = std::chrono::steady_clock::now();
     const Estimate estimate = estimator->Run(dataset);

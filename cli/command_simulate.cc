@@ -30,6 +30,7 @@ void RegisterSimulate(CLI::App& app, int* exit_code) {
       ->add_option("--out", args->out,
                    "Output dataset folder: created (an existing one only with --force; written "
                    "whole into a fresh folder, then renamed into place)")
+      ->check(OutputFolder())
       ->required();
   command->add_flag("--force", args->force, "Replace an existing --out folder (a mavloc dataset)");
   AddSeedOption(command, &args->seed, "Master seed (motion, IMU and camera seeds derive from it)");

@@ -17,6 +17,7 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "cli/option_checks.h"
 #include "cli/output_folder.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
@@ -126,6 +127,7 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
       ->add_option("--out", args->out,
                    "Report folder; the partial folder with --shard; the results folder on the "
                    "shared file system with --slurm")
+      ->check(OutputFolder())
       ->required();
   command->add_flag("--force", args->force,
                     "Replace an existing --out folder (a mavloc report, or with --slurm the "
@@ -226,7 +228,11 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
       std::printf("sweep: shard %d/%d (%zu of %zu units) written to %s\n", spec.shard, spec.shards,
                   indices.size(), units, path.c_str());
     } else {
-      WriteSweepReport(report->path(), BuildSweepReport(grid, SweepFingerprint(grid), results));
+      std::vector<std::string> warnings;
+      WriteSweepReport(report->path(),
+                       BuildSweepReport(grid, SweepFingerprint(grid), results, &warnings));
+      for (const std::string& warning : warnings)
+        std::fprintf(stderr, "mavloc: warning: %s\n", PrintableMessage(warning).c_str());
       const FigureOutcome figures =
           WriteReportFigures(report->path(), report->ForUser(report->path()));
       report->Commit();
@@ -244,15 +250,23 @@ void RegisterSweep(CLI::App& app, int* exit_code) {
   auto merge_out = std::make_shared<std::string>();
   merge->add_option("inputs", *merge_inputs, "Partial files and/or folders holding them")
       ->required();
-  merge->add_option("--out", *merge_out, "Report folder (created)")->required();
+  merge->add_option("--out", *merge_out, "Report folder (created)")
+      ->check(OutputFolder())
+      ->required();
   auto merge_force = std::make_shared<bool>(false);
   merge->add_flag("--force", *merge_force, "Replace an existing --out folder (a mavloc report)");
   merge->callback([merge_inputs, merge_out, merge_force, exit_code] {
     StagedFolder report(*merge_out, FolderKind::kReport,
                         *merge_force);  // checked first, written whole
     const MergedSweep merged = MergePartials(*merge_inputs);
+    std::vector<std::string> warnings;
     WriteSweepReport(report.path(),
-                     BuildSweepReport(merged.grid, merged.fingerprint, merged.units));
+                     BuildSweepReport(merged.grid, merged.fingerprint, merged.units, &warnings));
+    for (const std::string& warning : warnings)
+      std::fprintf(stderr, "mavloc: warning: %s\n", PrintableMessage(warning).c_str());
+    for (const SkippedFile& file : merged.skipped)
+      std::fprintf(stderr, "mavloc: note: %s: not used: %s\n", PrintableMessage(file.path).c_str(),
+                   file.reason.c_str());
     const FigureOutcome figures = WriteReportFigures(report.path(), report.ForUser(report.path()));
     report.Commit();
     std::printf(

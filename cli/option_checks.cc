@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <optional>
 #include <set>
@@ -11,6 +12,7 @@
 #include "core/errors.h"
 #include "core/number_text.h"
 #include "datasets/scenarios/scenario.h"
+#include "evaluation/estimator_option_ranges.h"
 
 namespace mavloc::cli {
 
@@ -99,6 +101,29 @@ CLI::Validator SeedNumber() {
       "SEED");
 }
 
+CLI::Validator OutputFile(bool parent_must_exist) {
+  return CLI::Validator(
+      [parent_must_exist](std::string& text) -> std::string {
+        namespace fs = std::filesystem;
+        if (text.empty()) return "an empty file name";
+        if (text.back() == '/') return "'" + Short(text) + "' names a folder, not a file";
+        std::error_code error;
+        if (fs::is_directory(text, error)) return "'" + Short(text) + "' is a folder, not a file";
+        const fs::path parent = fs::path(text).parent_path();
+        if (parent_must_exist && !parent.empty() && !fs::is_directory(parent, error))
+          return "'" + Short(text) + "': the folder '" + Short(parent.string()) +
+                 "' does not exist";
+        return "";
+      },
+      "FILE");
+}
+
+CLI::Validator OutputFolder() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string { return text.empty() ? "an empty folder name" : ""; },
+      "DIR");
+}
+
 CLI::Option* AddSeedOption(CLI::App* command, uint64_t* seed, const std::string& description) {
   return command->add_option("--seed", *seed, description)
       ->check(SeedNumber())
@@ -167,6 +192,9 @@ std::map<std::string, EstimatorOptions> EstimatorOptionsFor(const std::vector<st
                        key + "' (known: " + list + ")");
     }
   }
+  for (const auto& [name, given] : options)
+    if (const EstimatorEntry* entry = FindEstimator(name))
+      CheckEstimatorOptionValues(*entry, given);
   return options;
 }
 

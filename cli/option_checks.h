@@ -29,6 +29,14 @@ CLI::Validator WholeNumber(long long min, long long max);
 // A seed: decimal digits only, 0 .. 2^64 - 1 (a sign, a fraction or an exponent is refused).
 CLI::Validator SeedNumber();
 
+// A file a command writes (--out FILE, --json FILE), checked before any work: a name (not empty,
+// not ending in '/'), not an existing folder, in a folder that exists (unless the command creates
+// it: `parent_must_exist` false).
+CLI::Validator OutputFile(bool parent_must_exist = true);
+// A folder a command writes (--out DIR, --report DIR): a name, not empty. The folder itself is
+// checked by StagedFolder (cli/output_folder.h) before any work.
+CLI::Validator OutputFolder();
+
 // Adds `--seed` to a command with SeedNumber().
 CLI::Option* AddSeedOption(CLI::App* command, uint64_t* seed, const std::string& description);
 // Adds `--duration` for a simulated scenario: (0, kMaxScenarioDurationS] seconds.
@@ -40,6 +48,9 @@ CLI::Option* AddScenarioDurationOption(CLI::App* command, double* duration_s,
 // Returns the options of each estimator. Throws InputError for a malformed item, a prefix that is
 // not an estimator or not in `names`, an option the named estimator does not have, or a
 // "key=value" that no estimator of the run has (each message lists the known names).
+//
+// The values are checked as well (CheckEstimatorOptionValues,
+// evaluation/estimator_option_ranges.h), before anything runs.
 std::map<std::string, EstimatorOptions> EstimatorOptionsFor(const std::vector<std::string>& items,
                                                             const std::vector<std::string>& names);
 

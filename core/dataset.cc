@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <iterator>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "core/errors.h"
 #include "core/number_text.h"
@@ -33,6 +36,38 @@ std::optional<double> ScenarioNumber(const Dataset& dataset, const std::string& 
     throw InputError("scenario.yaml", 0, key,
                      DescribeNumberText(it->second, value, "a finite number"));
   return value.value;
+}
+
+namespace {
+
+std::string Rows(size_t count) { return std::to_string(count) + (count == 1 ? " row" : " rows"); }
+
+}  // namespace
+
+std::string DescribeDatasetStreams(const Dataset& dataset) {
+  const bool on_disk = !dataset.root.empty();
+  const auto file = [&](const std::string& stream) {
+    return on_disk ? "mav0/" + stream + "/data.csv" : stream;
+  };
+  std::vector<std::string> parts = {
+      file(dataset.imu.name) + " " + Rows(dataset.imu.samples.size()),
+      (on_disk ? file("state_groundtruth_estimate0") : std::string("ground truth")) + " " +
+          Rows(dataset.ground_truth.size())};
+  for (const CameraSensor& camera : dataset.cameras)
+    if (!camera.frames.empty())
+      parts.push_back(file(camera.name) + " " + Rows(camera.frames.size()));
+  const std::pair<const char*, size_t> streams[] = {
+      {"features0", dataset.features.size()},
+      {"features1", dataset.features1.size()},
+      {"laser0", dataset.laser.size()},
+      {"tags0", dataset.tags.size()},
+      {"tags1", dataset.tags1.size()},
+      {"truth_quantities0", dataset.truth_quantities.size()}};
+  for (const auto& [stream, count] : streams)
+    if (count > 0) parts.push_back(file(stream) + " " + Rows(count));
+  std::string text;
+  for (const std::string& part : parts) text += (text.empty() ? "" : ", ") + part;
+  return text;
 }
 
 const GroundTruthState& NearestTruth(const std::vector<GroundTruthState>& truth, TimeNs t_ns) {

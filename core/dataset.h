@@ -137,6 +137,12 @@ struct Dataset {
 // in-memory datasets), never "not stated".
 std::optional<double> ScenarioNumber(const Dataset& dataset, const std::string& key);
 
+// What a dataset holds, stream by stream, each with its file (mav0/<stream>/data.csv for a folder
+// read from disk) and its row count: "mav0/imu0/data.csv 1 row, ground truth 801 rows,
+// mav0/tags0/data.csv 132 rows". The IMU and the ground truth are always named, other streams when
+// they have rows. For a message that says why nothing could run on the dataset.
+std::string DescribeDatasetStreams(const Dataset& dataset);
+
 // The ground-truth row nearest to t_ns (rows are time-ordered, at least one).
 const GroundTruthState& NearestTruth(const std::vector<GroundTruthState>& truth, TimeNs t_ns);
 

@@ -11,9 +11,11 @@ namespace {
 std::string Format(const std::string& file, long line, const std::string& field,
                    const std::string& message) {
   std::ostringstream text;
-  text << file;
-  if (line > 0) text << ':' << line;
-  text << ": ";
+  if (!file.empty()) {
+    text << file;
+    if (line > 0) text << ':' << line;
+    text << ": ";
+  }
   if (!field.empty()) text << "field '" << field << "': ";
   text << message;
   return text.str();
@@ -119,8 +121,27 @@ std::string PrintableMessage(const std::string& message, size_t max_bytes) {
   return out;
 }
 
+namespace {
+
+std::string WithoutNul(const std::string& text) {
+  if (text.find('\0') == std::string::npos) return text;
+  std::string out;
+  out.reserve(text.size() + 8);
+  for (const char c : text) {
+    if (c == '\0')
+      out += "\\x00";
+    else
+      out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
+InputError::InputError(const std::string& message) : std::runtime_error(WithoutNul(message)) {}
+
 InputError::InputError(const std::string& file, long line, const std::string& field,
                        const std::string& message)
-    : std::runtime_error(Format(file, line, field, message)) {}
+    : std::runtime_error(WithoutNul(Format(file, line, field, message))) {}
 
 }  // namespace mavloc

@@ -10,8 +10,11 @@ namespace mavloc {
 
 class InputError : public std::runtime_error {
  public:
-  explicit InputError(const std::string& message) : std::runtime_error(message) {}
-  // "file:line: field 'name': message"; line <= 0 omits the line, empty field omits the field.
+  // what() is a C string: a NUL byte in the message (a field of a binary file) is written as the
+  // text \x00, so the message does not end inside a quoted value.
+  explicit InputError(const std::string& message);
+  // "file:line: field 'name': message"; line <= 0 omits the line, an empty field the field, an
+  // empty file the file (a value of an option: "field 'delay_s': must be >= 0").
   InputError(const std::string& file, long line, const std::string& field,
              const std::string& message);
 };

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "core/errors.h"
+#include "core/number_text.h"
 #include "core/physical_limits.h"
 
 #include "solver/estimator.h"
@@ -37,7 +38,7 @@ namespace {
 // for every estimator that declares it, before the estimator is constructed, so that rate_hz=0, a
 // negative noise density or loss_scale=-2 is refused with the option named instead of giving a
 // one-pose trajectory, an allocation failure or a silently different cost. Keys not listed are
-// text, booleans, or signed values (time offsets, delays) that the getters check for finiteness.
+// text, booleans, or signed values (time offsets) that the getters check for finiteness.
 struct OptionRange {
   double lo, hi;
   bool lo_open;  // (lo, hi] instead of [lo, hi]
@@ -45,6 +46,17 @@ struct OptionRange {
 };
 
 constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+
+// Longest window or span of an option in seconds: 11.6 days, longer than any MAV log, and far
+// below the 2^62 ns (146 years) that a time difference may reach without int64 overflow (a
+// window_s of 1e18 overflowed to a window of no states, a delay_s of 1e9 put every measurement
+// after the log's end).
+constexpr double kMaxOptionSpan_s = 1e6;
+// Variances of process and measurement noise (the tag EKF's): 1e6 in SI units squared is
+// (1 km)^2, (1000 m/s^2)^2, (1000 rad/s)^2, far beyond any sensor, and keeps the covariances
+// finite.
+constexpr double kMaxOptionVariance = 1e6;
+constexpr double kMaxOptionDelay_ms = limits::kMaxProcessingDelay_s * 1e3;
 
 const std::map<std::string, OptionRange>& OptionRanges() {
   static const std::map<std::string, OptionRange> kRanges = {
@@ -108,6 +120,36 @@ const std::map<std::string, OptionRange>& OptionRanges() {
       {"neighbour_frames", {2.0, kUnbounded, false, ""}},
       {"init_seed", {0.0, kUnbounded, false, ""}},
       {"attitude_error_seed", {0.0, kUnbounded, false, ""}},
+      // Times that become nanoseconds.
+      {"delay_s", {0.0, limits::kMaxProcessingDelay_s, false, "s"}},
+      {"image_delay_ms", {-kMaxOptionDelay_ms, kMaxOptionDelay_ms, false, "ms"}},
+      {"window_s", {0.0, kMaxOptionSpan_s, false, "s"}},
+      {"window_overlap_s", {0.0, kMaxOptionSpan_s, true, "s"}},
+      {"grow_window_s", {0.0, kMaxOptionSpan_s, false, "s"}},
+      {"gravity_window_s", {0.5, kMaxOptionSpan_s, false, "s"}},
+      // Budgets: about 1 TB.
+      {"memory_budget_mib", {0.0, 1e6, true, "MiB"}},
+      // Priors of the calibration states.
+      {"extrinsics_prior_m", {0.0, 10.0, true, "m"}},
+      {"extrinsics_prior_deg", {0.0, 180.0, true, "deg"}},
+      // The tag EKF's noise (process: may be 0; measurement: > 0) and initial state.
+      {"accel_var", {0.0, kMaxOptionVariance, false, "(m/s^2)^2"}},
+      {"gyro_var", {0.0, kMaxOptionVariance, false, "(rad/s)^2"}},
+      {"accel_bias_var", {0.0, kMaxOptionVariance, false, "(m/s^2)^2"}},
+      {"gyro_bias_var", {0.0, kMaxOptionVariance, false, "(rad/s)^2"}},
+      {"position_var", {0.0, kMaxOptionVariance, true, "m^2"}},
+      {"attitude_var", {0.0, kMaxOptionVariance, true, "rad^2"}},
+      {"init_pos_sigma", {0.0, limits::kMaxPosition_m, false, "m"}},
+      {"init_vel_sigma", {0.0, limits::kMaxSpeed_m_s, false, "m/s"}},
+      {"init_att_sigma", {0.0, 10.0, false, "rad"}},
+      {"init_ba_sigma", {0.0, limits::kMaxAccelBias_m_s2, false, "m/s^2"}},
+      {"init_bg_sigma", {0.0, limits::kMaxGyroBias_rad_s, false, "rad/s"}},
+      {"init_p0_scale", {0.0, 1e6, false, ""}},
+      // The laser EKF's initial error (a fraction of each mode) and the triangle angles.
+      {"init_error_min", {0.0, 10.0, false, ""}},
+      {"init_error_max", {0.0, 10.0, false, ""}},
+      {"gamma1_deg", {0.0, 180.0, false, "deg"}},
+      {"gamma2_deg", {0.0, 180.0, false, "deg"}},
   };
   return kRanges;
 }
@@ -125,12 +167,18 @@ void CheckOptionRanges(const EstimatorEntry& entry, const EstimatorOptions& give
   for (const auto& [key, text] : given.values()) {
     const auto range = OptionRanges().find(key);
     if (range == OptionRanges().end() || !entry.options.count(key)) continue;
-    const double value = given.GetDouble(key, 0.0);  // throws for text, nan, inf
     const OptionRange& r = range->second;
+    const ParsedNumber<double> parsed = ParseDoubleText(text);
+    if (!parsed.ok())
+      throw InputError(fmt::format(
+          "--option {}={}: {} (estimator {}; range {})", key, PrintableMessage(text, 60),
+          DescribeNumberText(text, parsed, "a finite number"), entry.name, RangeDescription(r)));
+    const double value = parsed.value;
     const bool above_lo = r.lo_open ? value > r.lo : value >= r.lo;
     if (!above_lo || !(value <= r.hi))
-      throw InputError(fmt::format("--option {}={}: '{}' is outside {} (estimator {})", key, text,
-                                   text, RangeDescription(r), entry.name));
+      throw InputError(fmt::format("--option {}={}: '{}' is outside {} (estimator {})", key,
+                                   PrintableMessage(text, 60), PrintableMessage(text, 60),
+                                   RangeDescription(r), entry.name));
   }
 }
 

@@ -50,9 +50,8 @@ Pose InterpolatePose(const std::vector<StampedPose>& poses, TimeNs t) {
   return Pose(a.T_W_B.q.slerp(s, b.T_W_B.q).normalized(), (1 - s) * a.T_W_B.p + s * b.T_W_B.p);
 }
 
-// An IMU stream derived from the ground truth (no bias): body rates from consecutive attitudes,
-// the kinematic acceleration from second differences of the positions over +-kHalf rows (the
-// ground truth's millimetre noise would otherwise dominate), specific force R^T (a - g).
+}  // namespace
+
 ImuSensor ImuFromGroundTruth(const std::vector<GroundTruthState>& truth) {
   constexpr size_t kHalf = 10;
   ImuSensor imu;
@@ -76,8 +75,6 @@ ImuSensor ImuFromGroundTruth(const std::vector<GroundTruthState>& truth) {
   }
   return imu;
 }
-
-}  // namespace
 
 std::string FindDefaultEurocLaserData() {
   for (const auto& candidate : CandidateDataPaths()) {

@@ -24,6 +24,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/dataset.h"
 #include "datasets/scenarios/scenario.h"
@@ -34,5 +35,11 @@ Dataset GenerateEurocLaser(const ScenarioOptions& options);
 
 // The default data folder resolved as described above, or "" when absent.
 std::string FindDefaultEurocLaserData();
+
+// An IMU stream derived from the ground truth (no bias, no noise): body rates from consecutive
+// attitudes, the kinematic acceleration from second differences of the positions over +-10 rows
+// (the ground truth's millimetre noise would otherwise dominate), specific force R^T (a - g). The
+// stated noise densities are small floors (gyro 1e-4 rad/s/sqrt(Hz), accel 5e-3 m/s^2/sqrt(Hz)).
+ImuSensor ImuFromGroundTruth(const std::vector<GroundTruthState>& truth);
 
 }  // namespace mavloc

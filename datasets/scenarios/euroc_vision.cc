@@ -25,6 +25,7 @@ struct EurocVisionSettings {
   double image_scale = 1.0;
   double texel_m = 0.004;
   double start_s = 0.0;
+  bool imu_from_ground_truth = false;
 };
 
 EurocVisionSettings ReadEurocVisionSettings(const ScenarioOptions& options,
@@ -46,6 +47,10 @@ EurocVisionSettings ReadEurocVisionSettings(const ScenarioOptions& options,
   s.image_scale = options.GetDouble("image_scale", s.image_scale);
   s.texel_m = options.GetDouble("texel_m", s.texel_m);
   s.start_s = options.GetDouble("start_s", s.start_s);
+  const std::string imu = options.GetString("imu", "real");
+  if (imu != "real" && imu != "from_ground_truth")
+    throw InputError(prefix + "imu must be real or from_ground_truth, not '" + imu + "'");
+  s.imu_from_ground_truth = imu == "from_ground_truth";
   if (!(s.camera_rate_hz >= 1.0 && s.camera_rate_hz <= 100.0))
     throw InputError(prefix + "camera_rate_hz must be in [1, 100]");
   if (!(s.image_scale >= 0.1 && s.image_scale <= 1.0))
@@ -192,6 +197,18 @@ Dataset GenerateEurocVision(const ScenarioOptions& options) {
   d.ground_truth = EurocVisionTruth(
       poses, euroc.ground_truth.empty() ? GroundTruthState{} : euroc.ground_truth.front(), t_begin,
       t_end);
+  if (s.imu_from_ground_truth) {
+    // The IMU derived from the same truth the images are rendered from: the real IMU's scale,
+    // misalignment and bias changes, which the truth does not share, are left out.
+    d.imu = ImuFromGroundTruth(EurocVisionTruth(
+        poses, GroundTruthState{}, t_begin - SecondsToNs(0.1), t_end + SecondsToNs(0.1)));
+    for (auto& row : d.ground_truth) row.b_g = row.b_a = Eigen::Vector3d::Zero();
+    // The derivation needs +-50 ms of truth: at the ends of the flight the truth is cut to the
+    // IMU's span.
+    std::erase_if(d.ground_truth, [&](const GroundTruthState& row) {
+      return row.t_ns < d.imu.samples.front().t_ns || row.t_ns > d.imu.samples.back().t_ns;
+    });
+  }
   const TexturedRoom room = EurocVisionRoom(s.texel_m);
   TexturedRoomToMapParameters(room, &d.map.parameters);
 
@@ -217,7 +234,10 @@ Dataset GenerateEurocVision(const ScenarioOptions& options) {
       {"scenario", kEurocVision},
       {"seed", std::to_string(options.seed)},
       {"data", s.data},
-      {"imu", "real EuRoC V1_01_easy imu0 (ADIS16448, 200 Hz)"},
+      {"imu", s.imu_from_ground_truth
+                  ? "derived from the ground truth (no bias, no noise; rates from attitude "
+                    "differences, accelerations from second differences over +-50 ms)"
+                  : "real EuRoC V1_01_easy imu0 (ADIS16448, 200 Hz)"},
       {"ground_truth",
        "groundtruth_full_tum.txt = T_W_B of the IMU frame (EuRoC state_groundtruth_estimate0); v "
        "by central differences; biases constant, the ASL estimate's first row"},

@@ -114,12 +114,13 @@ const std::vector<ScenarioEntry>& ScenarioRegistry() {
             {"data", "alpha_deg", "L", "clearance_m", "camera_rate_hz", "bearing_noise_deg", "imu",
              "imu_noise_model", "imu_noise_scale"},
             GenerateEurocLaser),
-      ImageEntry(Entry("euroc-vision",
-                       "real EuRoC V1_01_easy IMU + ground truth, cam0/cam1 rendered at 20 Hz in "
-                       "a room painted with photographs (natural features)",
-                       With(TexturedFrameSettingKeys(), {"data", "cameras", "camera_rate_hz",
-                                                         "image_scale", "texel_m", "start_s"}),
-                       GenerateEurocVision)),
+      ImageEntry(Entry(
+          "euroc-vision",
+          "real EuRoC V1_01_easy IMU + ground truth, cam0/cam1 rendered at 20 Hz in "
+          "a room painted with photographs (natural features)",
+          With(TexturedFrameSettingKeys(),
+               {"data", "cameras", "camera_rate_hz", "image_scale", "imu", "texel_m", "start_s"}),
+          GenerateEurocVision)),
       Entry("aprilgrid-calibration",
             "stereo rig waved before a tilted 6x6 aprilgrid (board map), "
             "known T_B_C and time offset; IMU 200 Hz, cams 20 Hz",

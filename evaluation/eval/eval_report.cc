@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iterator>
 #include <numeric>
+#include <stdexcept>
 
 #include "datasets/io/tum_io.h"
 #include "evaluation/report/latex.h"
@@ -525,9 +526,7 @@ EstimatorResult ResultOfRun(const EvalEstimate& estimate, const EvalRun& run) {
   coverage.pairs = ev.pair_count;
   coverage.estimate_poses = ev.estimate_count;
   coverage.overlap_s = ev.duration_s;
-  if (!run.aligned_estimate.empty())
-    coverage.estimate_span_s =
-        NsToSeconds(run.aligned_estimate.back().t_ns - run.aligned_estimate.front().t_ns);
+  coverage.estimate_span_s = run.estimate_span_s;
   r.coverage = coverage;
   r.metrics["ate_translation"] = {"m", std::nullopt, ev.ape_translation_m};
   r.metrics["ate_rotation"] = {"rad", std::nullopt, DegreesToRadians(ev.ape_rotation_deg)};
@@ -573,11 +572,26 @@ Report EvalModel(const EvalReport& report) {
   body = body.substr(body.find('\n') + 1);  // the title is the report's
   model.sections.push_back({"Per estimate", body});
   model.details = EvalJson(report);
-  model.files = EvalReportFiles(report);
+  if (report.protocol.keep_series) {
+    model.files = EvalReportFiles(report);
+  } else {
+    for (const std::string& name : EvalReportFileNames(report)) model.files[name];
+  }
   return model;
 }
 
+std::vector<std::string> EvalReportFileNames(const EvalReport& report) {
+  std::vector<std::string> names = {"eval.tex", "truth.tum", "errors_over_time.csv",
+                                    "relative_errors.csv"};
+  for (const auto& estimate : report.estimates)
+    for (const auto& run : estimate.runs) names.push_back(EstimateFileName(estimate, run));
+  return names;
+}
+
 std::map<std::string, std::string> EvalReportFiles(const EvalReport& report) {
+  if (!report.protocol.keep_series)
+    throw std::logic_error(
+        "the eval report's files need the runs' series: evaluate with EvalOutputs::report_folder");
   std::map<std::string, std::string> files;
   files["eval.tex"] = EvalLatex(report);
   files["truth.tum"] = TumTrajectoryText(report.truth_poses);

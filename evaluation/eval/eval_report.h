@@ -38,9 +38,14 @@ nlohmann::json EvalJson(const EvalReport& report);
 // The table alone (for the terminal).
 std::string EvalSummaryTable(const EvalReport& report);
 // The data files of the report folder (eval.tex, the trajectories, the CSVs): name -> contents.
+// Needs the runs' series (report.protocol.keep_series; std::logic_error otherwise).
 std::map<std::string, std::string> EvalReportFiles(const EvalReport& report);
+// Their names alone, without building them (report.json lists them).
+std::vector<std::string> EvalReportFileNames(const EvalReport& report);
 // The report of the one results model (evaluation/report/report.h): one estimator result per run,
-// eval's own tables as a section, its JSON as the details, EvalReportFiles as the files.
+// eval's own tables as a section, its JSON as the details, EvalReportFiles as the files. Evaluated
+// without the series (report.json alone), the files are named with empty contents: the model is
+// for ReportJsonText then, not for writing a report folder.
 Report EvalModel(const EvalReport& report);
 // estimate_<label>[_run<k>].tum
 std::string EstimateFileName(const EvalEstimate& estimate, const EvalRun& run);

@@ -74,9 +74,37 @@ EvalRun EvaluateRun(const std::string& file, const LoadedTrajectory& estimate,
                      "cannot evaluate: " + why + (fixes.empty() ? "" : " (note: " + fixes + ")"));
   }
   run.evaluation = std::move(*evaluation);
+  run.estimate_span_s = NsToSeconds(est.back().t_ns - est.front().t_ns);
   if (keep_aligned_estimate)
     run.aligned_estimate = AlignedEstimate(est, run.evaluation, p.time_offset_s);
   return run;
+}
+
+EvalReport EvaluateInputs(LoadedTrajectory&& truth, const std::string& truth_path,
+                          const std::vector<EvalInput>& inputs, EvaluationProtocol protocol,
+                          const EvalOutputs& outputs) {
+  protocol.keep_series = outputs.NeedsSeries();
+  EvalReport report;
+  report.truth = truth.report;
+  report.relative_lengths_given = !protocol.relative_lengths_m.empty();
+  for (const auto& input : inputs) {
+    EvalEstimate estimate;
+    estimate.label = input.label;
+    estimate.source = input.source;
+    estimate.is_folder = input.is_folder;
+    for (size_t r = 0; r < input.runs.size(); ++r) {
+      EvalRun run = EvaluateRun(input.runs[r].first, input.runs[r].second, truth, protocol,
+                                truth_path, outputs.NeedsSeries());
+      if (protocol.relative_lengths_m.empty())
+        protocol.relative_lengths_m = run.evaluation.protocol.relative_lengths_m;
+      run.run = input.is_folder ? static_cast<int>(r + 1) : 0;
+      estimate.runs.push_back(std::move(run));
+    }
+    report.estimates.push_back(std::move(estimate));
+  }
+  report.protocol = protocol;
+  report.truth_poses = std::move(truth.poses);
+  return report;
 }
 
 }  // namespace mavloc

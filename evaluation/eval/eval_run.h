@@ -1,7 +1,8 @@
 // The runs of `mavloc eval`: each estimate file (or each run of a folder of runs) evaluated
 // against the ground truth by the one trajectory-error engine (evaluation/trajectory_evaluation.h),
 // KITTI files without stamps associated by index as evo does, and the estimate mapped into the
-// truth's frame by the alignment for the figures.
+// truth's frame by the alignment for the figures. What is built depends on the outputs asked for
+// (EvalOutputs): the per-pair series and the aligned estimates only for the report folder.
 #pragma once
 
 #include <string>
@@ -18,6 +19,7 @@ struct EvalRun {
   TrajectoryReadReport input;
   bool by_index = false;  // KITTI without times: associated by index (evo)
   TrajectoryEvaluation evaluation;
+  double estimate_span_s = 0.0;  // first to last stamp of the estimate as read
   std::vector<StampedPose>
       aligned_estimate;  // in the truth's frame, time offset applied (or empty)
 };
@@ -36,6 +38,32 @@ struct EvalReport {
   bool relative_lengths_given = false;
   std::vector<EvalEstimate> estimates;
 };
+
+// The outputs of one `mavloc eval`, and what they need built. The terminal table and report.json
+// need each run's statistics alone; the report folder's files (the truth and each aligned estimate
+// as TUM, errors_over_time.csv, relative_errors.csv) and its figures also need the per-pair and
+// per-segment series and the aligned estimates, which on a million-pose truth take several times
+// the time and memory of the statistics.
+struct EvalOutputs {
+  bool report_folder = false;  // --out DIR
+  bool report_json = false;    // --json FILE
+  bool NeedsSeries() const { return report_folder; }
+};
+
+// One --est as read: a file, or a folder of runs of one estimator.
+struct EvalInput {
+  std::string label, source;
+  bool is_folder = false;
+  std::vector<std::pair<std::string, LoadedTrajectory>> runs;  // file name, trajectory
+};
+
+// Every run of every input against the truth (EvaluateRun), with the series and aligned estimates
+// that `outputs` need and no others (report.protocol.keep_series says whether they were built).
+// rpg's default relative lengths, when protocol gives none, come from the first run and are used
+// for every other one. The truth's poses are moved into the report.
+EvalReport EvaluateInputs(LoadedTrajectory&& truth, const std::string& truth_path,
+                          const std::vector<EvalInput>& inputs, EvaluationProtocol protocol,
+                          const EvalOutputs& outputs);
 
 // Evaluates one run; throws InputError naming the estimate file when nothing can be computed (the
 // ground truth was checked to have two poses), with the rows its reader dropped, if any. The

@@ -71,6 +71,14 @@ std::string TauText(double t_s) {
   return t_s < 1000.0 ? fmt::format("{:.3g} s", t_s) : fmt::format("{:.0f} s", t_s);
 }
 
+// A local slope of the log-log curve, "+0.48"; where the Allan deviation is 0 (a series that
+// repeats itself at that cluster time) the slope has no value, and the text says so instead of
+// printing "-nan".
+std::string SlopeText(double slope) {
+  if (!std::isfinite(slope)) return "undefined (the Allan deviation is 0 there)";
+  return fmt::format("{:+.2f}", slope);
+}
+
 // "145.6 s", "25 min", "3.2 h".
 std::string LogLengthText(double t_s) {
   if (t_s < 120.0) return fmt::format("{:.4g} s", t_s);
@@ -142,9 +150,9 @@ AxisNoiseFit FitAllanNoise(const AllanCurve& curve, const NoiseFitOptions& optio
     fit.white.value = white_bound;
     fit.white.note = fmt::format(
         "no -1/2 slope (no {} consecutive points with slope -1/2 +- {:g}; slope at the shortest "
-        "tau {}: {:+.2f}): upper bound only",
+        "tau {}: {}): upper bound only",
         options.min_points, options.white_slope_tolerance, TauText(p.front().tau_s),
-        p.front().slope);
+        SlopeText(p.front().slope));
   }
 
   // Bias instability: the widest run of flat points (the global minimum alone is a poor guide: at
@@ -190,14 +198,14 @@ AxisNoiseFit FitAllanNoise(const AllanCurve& curve, const NoiseFitOptions& optio
         t.note = "no minimum: the curve rises from the shortest tau: upper bound only";
       else if (!turned_up && curve.cut_at_max_tau)
         t.note = fmt::format(
-            "not reached: the curve has not levelled off by its largest tau ({}, slope {:+.2f}){}: "
+            "not reached: the curve has not levelled off by its largest tau ({}, slope {}){}: "
             "raise --max-tau; upper bound only",
-            TauText(p[last].tau_s), p[last].slope, MaxTauStop(curve, log_s));
+            TauText(p[last].tau_s), SlopeText(p[last].slope), MaxTauStop(curve, log_s));
       else if (!turned_up)
         t.note = fmt::format(
-            "not reached: the curve has not levelled off by its largest tau ({}, slope {:+.2f}); "
+            "not reached: the curve has not levelled off by its largest tau ({}, slope {}); "
             "the log is {}: upper bound only",
-            TauText(p[last].tau_s), p[last].slope, LogLengthText(log_s));
+            TauText(p[last].tau_s), SlopeText(p[last].slope), LogLengthText(log_s));
       else
         t.note = fmt::format(
             "no flat floor: the curve is flat (slope 0 +- {:g}) over at most {:.2f} decades (less "
@@ -227,24 +235,24 @@ AxisNoiseFit FitAllanNoise(const AllanCurve& curve, const NoiseFitOptions& optio
       t.value = walk_bound;
       if (i_min > 0 && !turned_up && !fit.bias_instability.measured && curve.cut_at_max_tau)
         t.note = fmt::format(
-            "not reached: the curve has not turned up by its largest tau ({}, slope {:+.2f}){}; "
+            "not reached: the curve has not turned up by its largest tau ({}, slope {}){}; "
             "the +1/2 slope begins about a decade past the bias-instability minimum: raise "
             "--max-tau; upper bound only",
-            TauText(p[last].tau_s), p[last].slope, MaxTauStop(curve, log_s));
+            TauText(p[last].tau_s), SlopeText(p[last].slope), MaxTauStop(curve, log_s));
       else if (i_min > 0 && !turned_up && !fit.bias_instability.measured)
         t.note = fmt::format(
             "not reached: the log is {} and the curve has not turned up by its largest tau ({}, "
-            "slope {:+.2f}); the +1/2 slope begins about a decade past the bias-instability "
+            "slope {}); the +1/2 slope begins about a decade past the bias-instability "
             "minimum, which lies beyond {}: it needs a static log at least ~10 times longer (more "
             "than {}; MEMS IMUs: typically hours); upper bound only",
-            LogLengthText(log_s), TauText(p[last].tau_s), p[last].slope, TauText(p[last].tau_s),
-            LogLengthText(10.0 * log_s));
+            LogLengthText(log_s), TauText(p[last].tau_s), SlopeText(p[last].slope),
+            TauText(p[last].tau_s), LogLengthText(10.0 * log_s));
       else if (i_min == 0)
         t.note = fmt::format(
             "not found: the curve rises from the shortest tau but nowhere at slope +1/2 +- {:g} "
-            "for {} points (slope at the largest tau {}: {:+.2f}); upper bound only",
+            "for {} points (slope at the largest tau {}: {}); upper bound only",
             options.random_walk_slope_tolerance, options.min_points, TauText(p[last].tau_s),
-            p[last].slope);
+            SlopeText(p[last].slope));
       else {
         // The +1/2 slope starts about a decade past the end of the floor (or the minimum).
         const double floor_end_s =
@@ -259,17 +267,17 @@ AxisNoiseFit FitAllanNoise(const AllanCurve& curve, const NoiseFitOptions& optio
               MaxTauStop(curve, log_s));
         else if (40.0 * floor_end_s > log_s)
           t.note = fmt::format(
-              "not reached: the log is {} (largest tau {}, slope there {:+.2f}); with the {} at "
+              "not reached: the log is {} (largest tau {}, slope there {}); with the {} at "
               "tau {} the +1/2 slope needs tau up to about 10 times that ({}), i.e. a static log "
               "of about {} (cluster times go up to a quarter of the log); upper bound only",
-              LogLengthText(log_s), TauText(p[last].tau_s), p[last].slope, reference,
+              LogLengthText(log_s), TauText(p[last].tau_s), SlopeText(p[last].slope), reference,
               TauText(floor_end_s), TauText(10.0 * floor_end_s), LogLengthText(40.0 * floor_end_s));
         else
           t.note = fmt::format(
-              "not found: no +1/2 slope up to the largest tau {} (slope there {:+.2f}), although "
+              "not found: no +1/2 slope up to the largest tau {} (slope there {}), although "
               "the {} is at tau {}: the random walk is too small to show in this {} log; upper "
               "bound only",
-              TauText(p[last].tau_s), p[last].slope, reference, TauText(floor_end_s),
+              TauText(p[last].tau_s), SlopeText(p[last].slope), reference, TauText(floor_end_s),
               LogLengthText(log_s));
       }
     }

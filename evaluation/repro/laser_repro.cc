@@ -1,4 +1,5 @@
 #include "evaluation/repro/laser_repro.h"
+#include "evaluation/estimator_option_ranges.h"
 
 #include <fmt/format.h>
 
@@ -306,6 +307,8 @@ LaserSettings ParseLaserSettings(const std::map<std::string, std::string>& setti
       throw InputError(fmt::format("repro laser: unknown setting '{}' (known: {})", key, known));
     }
   }
+  // ekf.KEY are laser-ekf's options: their keys and values checked before any unit runs.
+  CheckEstimatorOptionValues(*FindEstimator("laser-ekf"), EstimatorOptions(out.ekf));
   out.duration_s = GetDoubleSetting(settings, "duration_s", 60.0);
   out.euroc_runs = GetIntSetting(settings, "euroc_runs", 5);
   out.with_euroc = GetBoolSetting(settings, "euroc", true);

@@ -1,4 +1,5 @@
 #include "evaluation/repro/smoother_repro.h"
+#include "evaluation/estimator_option_ranges.h"
 
 #include <fmt/format.h>
 
@@ -773,6 +774,9 @@ SmootherSettings ParseSettings(const std::map<std::string, std::string>& raw) {
   // One Ceres thread per run (the runs are the parallelism, `--jobs`): the same numbers whatever
   // the number of jobs.
   if (!settings.smoother_options.count("threads")) settings.smoother_options["threads"] = "1";
+  // smoother.KEY: the smoother's options, keys and values checked before any unit runs.
+  CheckEstimatorOptionValues(*FindEstimator("smoother"),
+                             EstimatorOptions(settings.smoother_options));
   settings.euroc_data = GetStringSetting(raw, "euroc_data", "");
   return settings;
 }

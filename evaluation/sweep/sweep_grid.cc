@@ -13,6 +13,8 @@
 #include "core/number_text.h"
 #include "datasets/scenarios/scenario.h"
 #include "evaluation/alignment.h"
+#include "evaluation/estimator_option_ranges.h"
+#include "evaluation/sweep/sweep_unit.h"
 #include "evaluation/sweep/unit_kinds.h"
 #include "solver/estimator.h"
 
@@ -188,6 +190,8 @@ void ValidateSweepGrid(const SweepGrid& grid) {
                          "'");
     }
   }
+  for (const auto& name : grid.estimators)
+    CheckEstimatorOptionValues(*FindEstimator(name), SweepEstimatorOptions(name, grid.options));
   if (!ParseAlignmentMode(grid.align))
     throw InputError("--align '" + grid.align + "': expected none, se3, sim3 or posyaw");
   if (!(grid.max_dt_s > 0.0)) throw InputError("--max-dt: must be positive");

@@ -12,6 +12,8 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/folder_walk.h"
+#include "core/input_file.h"
 #include "core/interrupt.h"
 
 namespace fs = std::filesystem;
@@ -23,11 +25,9 @@ namespace {
 constexpr const char* kFormat = "mavloc-sweep-partial 1";
 const std::regex kPartialName(R"(partial-([0-9]+)-of-([0-9]+)\.json)");
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, "", "cannot read the partial file");
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+// The whole partial; a named pipe, a folder or a loop of links is refused naming it (it would
+// block the read or end it in a filesystem error).
+std::string ReadAll(const std::string& path) { return ReadRegularFile(path); }
 
 // Every sweep metric is an RMSE, a mean absolute error or a count: finite, not negative, and far
 // below this bound, which keeps sums of squares over any grid finite.
@@ -74,6 +74,44 @@ void CheckUnitResult(const nlohmann::json& unit, const std::string& path, size_t
         refuse(field + ".units." + metric, "no unit for the metric");
     }
   }
+}
+
+std::string JoinedNames(const std::vector<std::string>& names) {
+  return names.empty() ? std::string("none") : fmt::format("{}", fmt::join(names, ", "));
+}
+
+// A unit of a plain sweep against its grid: the scenario, seed and settings of the grid's unit of
+// that index, and one row per estimator of the grid, in the grid's order. A unit of another grid
+// (an edited partial) would otherwise be merged into the cells of this one.
+void CheckUnitAgainstGrid(const nlohmann::json& unit, const SweepGrid& grid,
+                          const std::string& path, size_t k) {
+  const size_t index = unit["index"].get<size_t>();
+  const std::string at = fmt::format("units[{}]", k);
+  const SweepUnit expected = SweepUnitAt(grid, index);
+  const auto settings = unit["settings"].get<std::map<std::string, std::string>>();
+  if (unit["scenario"].get<std::string>() != expected.scenario ||
+      unit["seed"].get<uint64_t>() != expected.seed || settings != expected.settings)
+    throw InputError(
+        path, 0, at,
+        fmt::format("unit {} is scenario {}, seed {}{}; the grid's unit {} is "
+                    "scenario {}, seed {}{}: not a unit of this grid",
+                    index, unit["scenario"].get<std::string>(), unit["seed"].get<uint64_t>(),
+                    settings.empty() ? "" : ", " + SettingsLabel(settings), index,
+                    expected.scenario, expected.seed,
+                    expected.settings.empty() ? "" : ", " + SettingsLabel(expected.settings)));
+  std::vector<std::string> names;
+  for (const auto& row : unit["estimators"]) names.push_back(row["name"].get<std::string>());
+  for (size_t e = 0; e < names.size(); ++e)
+    if (std::find(grid.estimators.begin(), grid.estimators.end(), names[e]) ==
+        grid.estimators.end())
+      throw InputError(
+          path, 0, fmt::format("{}.estimators[{}].name", at, e),
+          fmt::format("unit {}: estimator '{}' is not in the grid (estimators: {})", index,
+                      PrintableMessage(names[e], 60), JoinedNames(grid.estimators)));
+  if (names != grid.estimators)
+    throw InputError(path, 0, at + ".estimators",
+                     fmt::format("unit {} has the estimators {}; the grid runs {} on every unit",
+                                 index, JoinedNames(names), JoinedNames(grid.estimators)));
 }
 
 struct Partial {
@@ -134,7 +172,10 @@ Partial ReadPartial(const std::string& path) {
                       p.spec.shard, p.spec.shards, expected_units.size(),
                       units.is_array() ? units.size() : 0));
     if (grid.repro.empty())
-      for (size_t i = 0; i < units.size(); ++i) CheckUnitResult(units[i], path, i);
+      for (size_t i = 0; i < units.size(); ++i) {
+        CheckUnitResult(units[i], path, i);
+        CheckUnitAgainstGrid(units[i], grid, path, i);
+      }
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path, 0, "", std::string("malformed partial: ") + e.what());
   }
@@ -189,16 +230,21 @@ std::string WritePartial(const std::string& folder, const SweepGrid& grid, const
 
 MergedSweep MergePartials(const std::vector<std::string>& inputs) {
   std::vector<std::string> files;
-  std::vector<std::string> leftovers;  // temporary files of interrupted shards
+  std::vector<std::string> leftovers;       // temporary files of interrupted shards
+  std::vector<SkippedFile> merged_skipped;  // other entries of the folders, with the reason
   for (const auto& input : inputs) {
-    if (fs::is_directory(input)) {
+    if (NotAFolder(input).empty()) {
       std::vector<std::string> found;
-      for (const auto& entry : fs::directory_iterator(input)) {
-        const std::string name = entry.path().filename().string();
-        if (std::regex_match(name, kPartialName))
-          found.push_back(entry.path().string());
-        else if (name.rfind("partial-", 0) == 0 && name.find(".json.tmp-") != std::string::npos)
-          leftovers.push_back(entry.path().string());
+      for (const FolderEntry& entry : ListFolder(input)) {
+        if (std::regex_match(entry.name, kPartialName)) {
+          if (!entry.problem.empty()) throw InputError(entry.path, 0, "", entry.problem);
+          found.push_back(entry.path);
+        } else if (entry.name.rfind("partial-", 0) == 0 &&
+                   entry.name.find(".json.tmp-") != std::string::npos) {
+          leftovers.push_back(entry.path);
+        } else {
+          merged_skipped.push_back({entry.path, "not a partial file (partial-I-of-N.json)"});
+        }
       }
       std::sort(found.begin(), found.end());
       if (found.empty())
@@ -250,6 +296,7 @@ MergedSweep MergePartials(const std::vector<std::string>& inputs) {
   }
 
   MergedSweep merged;
+  merged.skipped = std::move(merged_skipped);
   merged.grid = SweepGridFromJson(by_shard.begin()->second.json["grid"], first_path);
   merged.fingerprint = fingerprint;
   const size_t count = SweepUnitCount(merged.grid);

@@ -12,14 +12,18 @@
 //
 // The merge reads partials in any order and checks: every file parses and is complete, all carry
 // the same fingerprint (same grid, same mavloc build) and shard count, no shard appears twice,
-// none is missing, and each holds exactly its shard's units. Any failure throws InputError naming
-// the problem (the CLI exits with 2).
+// none is missing, each holds exactly its shard's units, and each unit is the grid's unit of its
+// index (scenario, seed, settings) with one row per estimator of the grid, in the grid's order.
+// Any failure throws InputError naming the partial, the unit and the field (the CLI exits with 2).
+// A unit that lacks a metric others have is merged: the report names the short cells
+// (sweep_report.h).
 #pragma once
 
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "core/folder_walk.h"
 #include "evaluation/sweep/sweep_grid.h"
 
 namespace mavloc {
@@ -42,9 +46,13 @@ struct MergedSweep {
   SweepGrid grid;
   std::string fingerprint;
   std::vector<nlohmann::json> units;  // every unit, by index
+  // The entries of the input folders that are not partials (nor an interrupted shard's temporary
+  // file), each with the reason: the merge names them (core/folder_walk.h).
+  std::vector<SkippedFile> skipped;
 };
 
-// `inputs`: partial files and/or folders (each folder contributes its partial-*-of-*.json files).
+// `inputs`: partial files and/or folders (each folder contributes its partial-*-of-*.json files;
+// the folders are walked with ListFolder, a partial that is not a regular file is refused).
 MergedSweep MergePartials(const std::vector<std::string>& inputs);
 
 // Which shards of N have a complete partial with this fingerprint in `folder` (1-based flags,

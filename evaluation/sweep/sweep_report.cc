@@ -21,11 +21,13 @@ namespace {
 struct MetricSamples {
   std::string unit;
   std::vector<double> values;  // in unit order
+  std::vector<size_t> units;   // the unit of each value
 };
 
 struct SweepCell {
   std::string scenario, settings, estimator;
   int runs = 0, ran = 0;
+  std::vector<size_t> ran_units;             // the units where the estimator ran
   std::vector<std::string> skipped_reasons;  // distinct, first seen first
   std::map<std::string, MetricSamples> metrics;
 };
@@ -53,6 +55,29 @@ Statistics Summarize(std::vector<double> values) {
 
 std::string SectionName(const SweepCell& cell) {
   return cell.scenario + (cell.settings.empty() ? "" : " (" + cell.settings + ")");
+}
+
+// The units where the cell's estimator ran without a value of `metric`.
+std::vector<size_t> MissingUnits(const SweepCell& cell, const std::string& metric) {
+  const std::vector<size_t>& have = cell.metrics.at(metric).units;
+  std::vector<size_t> missing;
+  for (const size_t unit : cell.ran_units)
+    if (std::find(have.begin(), have.end(), unit) == have.end()) missing.push_back(unit);
+  return missing;
+}
+
+// A metric with fewer values than the runs where the estimator ran: a unit without it (a NaN left
+// out, or a result that lost it), so its statistics are over fewer seeds than the cell's.
+std::vector<std::string> ShortCellWarnings(const SweepCell& cell) {
+  std::vector<std::string> warnings;
+  for (const auto& [metric, samples] : cell.metrics)
+    if (static_cast<int>(samples.values.size()) < cell.ran)
+      warnings.push_back(
+          fmt::format("{}: {}: {} has {} value(s) for the {} runs where it ran "
+                      "(missing in unit {}): its statistics are over fewer seeds",
+                      SectionName(cell), cell.estimator, metric, samples.values.size(), cell.ran,
+                      fmt::join(MissingUnits(cell, metric), ", ")));
+  return warnings;
 }
 
 nlohmann::json CellJson(const SweepCell& cell) {
@@ -147,7 +172,8 @@ std::string GridText(const SweepGrid& grid, const std::string& fingerprint, size
 
 std::map<std::string, std::string> BuildSweepReport(const SweepGrid& grid,
                                                     const std::string& fingerprint,
-                                                    const std::vector<nlohmann::json>& units) {
+                                                    const std::vector<nlohmann::json>& units,
+                                                    std::vector<std::string>* warnings) {
   if (units.size() != SweepUnitCount(grid))
     throw InputError(fmt::format("sweep report: {} unit results for a grid of {} units",
                                  units.size(), SweepUnitCount(grid)));
@@ -185,12 +211,14 @@ std::map<std::string, std::string> BuildSweepReport(const SweepGrid& grid,
         continue;
       }
       ++cell.ran;
+      cell.ran_units.push_back(k);
       for (const auto& [metric, value] : row.at("metrics").items()) {
         const std::string unit = row.at("units").value(metric, "");
         const double v = value.get<double>();
         auto& samples = cell.metrics[metric];
         samples.unit = unit;
         samples.values.push_back(v);
+        samples.units.push_back(k);
         csv += fmt::format("{},{},1,{},{},{}\n", prefix, CsvField(estimator), CsvField(metric),
                            CsvField(unit), v);
       }
@@ -217,7 +245,9 @@ std::map<std::string, std::string> BuildSweepReport(const SweepGrid& grid,
       report.warnings.push_back(fmt::format("{}: {} did not run in {} of {} seeds: {}",
                                             SectionName(cell), cell.estimator, cell.runs - cell.ran,
                                             cell.runs, fmt::join(cell.skipped_reasons, "; ")));
+    for (const std::string& warning : ShortCellWarnings(cell)) report.warnings.push_back(warning);
   }
+  if (warnings) *warnings = report.warnings;
   report.tables = CellTables(cells);
   report.details["runs"] = units;
   report.files["runs.csv"] = csv;

@@ -9,7 +9,8 @@
 //               standard deviation, min, median, max over the seeds), and details {"sweep": {grid,
 //               fingerprint, units}, "cells": [...], "runs": [unit results]}; values in SI
 //   report.md   the grid, then those tables (angles in degrees); an estimator that did not run in
-//               some seeds is a warning
+//               some seeds is a warning, and so is a short cell: a metric with fewer values than
+//               the runs where the estimator ran (a unit without it)
 // A cell is (scenario, settings combination, estimator); its statistics are over the seeds where
 // the estimator ran (a metric missing in a run, e.g. NaN, is left out of that metric's n).
 // Figures are drawn afterwards from the folder (`mavloc figures`), outside the merged bytes.
@@ -25,9 +26,11 @@
 namespace mavloc {
 
 // File name -> contents. `units` must hold every unit of the grid, ordered by index.
+// `warnings` (optional) receives the report's warnings, for the terminal.
 std::map<std::string, std::string> BuildSweepReport(const SweepGrid& grid,
                                                     const std::string& fingerprint,
-                                                    const std::vector<nlohmann::json>& units);
+                                                    const std::vector<nlohmann::json>& units,
+                                                    std::vector<std::string>* warnings = nullptr);
 
 // Creates the folder and writes every file atomically (core/atomic_file.h).
 void WriteSweepReport(const std::string& folder, const std::map<std::string, std::string>& files);

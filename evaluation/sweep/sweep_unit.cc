@@ -19,9 +19,10 @@ std::pair<std::string, std::string> SplitKeyValue(const std::string& item) {
   return {item.substr(0, eq), item.substr(eq + 1)};
 }
 
-// `compare`'s rule (cli/option_checks.h): "name:key=value" for one estimator, "key=value" for
-// every estimator that has the option; the specific one wins.
-EstimatorOptions OptionsFor(const std::string& estimator, const std::vector<std::string>& items) {
+}  // namespace
+
+EstimatorOptions SweepEstimatorOptions(const std::string& estimator,
+                                       const std::vector<std::string>& items) {
   const EstimatorEntry* entry = FindEstimator(estimator);
   EstimatorOptions specific;
   std::vector<std::pair<std::string, std::string>> global;
@@ -45,6 +46,8 @@ EstimatorOptions OptionsFor(const std::string& estimator, const std::vector<std:
     specific.Set("threads", "1");
   return specific;
 }
+
+namespace {
 
 void AddMetric(nlohmann::json& row, const std::string& name, double value,
                const std::string& unit) {
@@ -84,8 +87,8 @@ nlohmann::json RunSweepUnit(const SweepGrid& grid, size_t index) {
   result["settings"] = unit.settings;
   result["estimators"] = nlohmann::json::array();
   for (const auto& name : grid.estimators) {
-    const EstimatorEvaluation evaluation =
-        RunAndEvaluate(name, OptionsFor(name, grid.options), dataset, evaluation_options);
+    const EstimatorEvaluation evaluation = RunAndEvaluate(
+        name, SweepEstimatorOptions(name, grid.options), dataset, evaluation_options);
     nlohmann::json row;
     row["name"] = name;
     row["ran"] = evaluation.ran;

@@ -14,9 +14,19 @@
 
 #include <nlohmann/json.hpp>
 
+#include <string>
+#include <vector>
+
 #include "evaluation/sweep/sweep_grid.h"
+#include "solver/estimator.h"
 
 namespace mavloc {
+
+// The options of `estimator` in a sweep: `compare`'s rule (cli/option_checks.h), "name:key=value"
+// for one estimator, "key=value" for every estimator that has the option, the specific one
+// winning; threads=1 unless given (the sweep's parallelism is across units).
+EstimatorOptions SweepEstimatorOptions(const std::string& estimator,
+                                       const std::vector<std::string>& items);
 
 // Throws InputError for bad settings or options (as `compare` would).
 nlohmann::json RunSweepUnit(const SweepGrid& grid, size_t index);

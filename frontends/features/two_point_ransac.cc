@@ -109,6 +109,24 @@ Eigen::Matrix3d TwoPointScatter(const std::vector<TwoPointMatch>& matches, const
   return M;
 }
 
+// The refit (8) of a hypothesis, rounds times at most, each kept only when it lowers the MSAC
+// cost (6).
+TwoPointHypothesis TwoPointRefit(const std::vector<TwoPointMatch>& matches, TwoPointHypothesis best,
+                                 double threshold, int rounds) {
+  for (int round = 0; round < rounds && best.inliers > 0; ++round) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(
+        TwoPointScatter(matches, best.t, threshold));
+    Eigen::Vector3d t = eigen.eigenvectors().col(0);
+    if (t.dot(best.t) < 0.0) t = -t;
+    const TwoPointHypothesis refit = TwoPointBestSign(matches, t, threshold);
+    if (!(refit.cost <= best.cost)) break;
+    const bool same = refit.inliers == best.inliers && refit.t.dot(best.t) > 1.0 - 1e-12;
+    best = refit;
+    if (same) break;
+  }
+  return best;
+}
+
 std::vector<bool> TwoPointMask(const std::vector<TwoPointMatch>& matches, size_t count,
                                const Eigen::Vector3d& t, double threshold) {
   std::vector<bool> mask(count, false);
@@ -220,9 +238,10 @@ EpipolarRansacResult TwoPointRansac(const std::vector<Eigen::Vector3d>& f_C0,
     const TwoPointHypothesis h = TwoPointBestSign(matches, t.normalized(), tau);
     if (h.cost < best.cost) {
       best = h;
-      needed = std::min(
-          needed, RansacIterations(options.confidence, static_cast<double>(best.inliers) / count, 2,
-                                   options.max_iterations));
+      needed = std::min(needed, std::max(std::min(options.min_iterations, options.max_iterations),
+                                         RansacIterations(options.confidence,
+                                                          static_cast<double>(best.inliers) / count,
+                                                          2, options.max_iterations)));
     }
   }
   out.iterations = drawn;
@@ -240,17 +259,7 @@ EpipolarRansacResult TwoPointRansac(const std::vector<Eigen::Vector3d>& f_C0,
   }
 
   // Refit (8).
-  for (int round = 0; round < options.refine_rounds && best.inliers > 0; ++round) {
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(
-        TwoPointScatter(matches, best.t, tau));
-    Eigen::Vector3d t = eigen.eigenvectors().col(0);
-    if (t.dot(best.t) < 0.0) t = -t;
-    const TwoPointHypothesis refit = TwoPointBestSign(matches, t, tau);
-    if (!(refit.cost <= best.cost)) break;
-    const bool same = refit.inliers == best.inliers && refit.t.dot(best.t) > 1.0 - 1e-12;
-    best = refit;
-    if (same) break;
-  }
+  best = TwoPointRefit(matches, best, tau, options.refine_rounds);
 
   // Pure rotation: too few of the translation's inliers need the translation.
   const int required_parallax =
@@ -276,6 +285,40 @@ EpipolarRansacResult TwoPointRansac(const std::vector<Eigen::Vector3d>& f_C0,
         "direction is supported by {} matches with parallax (fewer than {}); the translation is "
         "zero or unobservable",
         out.num_inliers, count, best.parallax_inliers, required_parallax);
+    out.direction_uncertainty_rad = std::numeric_limits<double>::infinity();
+    return out;
+  }
+
+  // One common epipolar plane (9): the alternative t_perp, t turned by 90 deg about the dominant
+  // normal N of the parallax inliers, must be rejected by enough of them.
+  Eigen::Matrix3d normals = Eigen::Matrix3d::Zero();
+  for (const TwoPointMatch& m : matches) {
+    if (m.e_R <= tau) continue;
+    bool inlier[2];
+    double e2;
+    TwoPointInlierOfSigns(m, best.t, tau, inlier, &e2);
+    if (inlier[0]) normals += m.n * m.n.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> normal_eigen(normals);
+  Eigen::Vector3d t_perp = normal_eigen.eigenvectors().col(2).cross(best.t);
+  t_perp = t_perp.norm() > 1e-9 ? Eigen::Vector3d(t_perp.normalized()) : best.t.unitOrthogonal();
+  int distinguishing = 0;
+  for (const TwoPointMatch& m : matches) {
+    if (m.e_R <= tau) continue;
+    bool inlier[2];
+    double e2;
+    TwoPointInlierOfSigns(m, best.t, tau, inlier, &e2);
+    if (!inlier[0]) continue;
+    Eigen::Vector3d a, b;
+    if (TwoPointSquaredError(m, t_perp, &a, &b) > tau * tau) ++distinguishing;
+  }
+  if (distinguishing < required_parallax) {
+    out.status = EpipolarRansacStatus::kDegenerate;
+    out.reason = fmt::format(
+        "the translation direction is not determined: turned by 90 deg within the inliers' "
+        "dominant epipolar plane it still explains all but {} of the {} inliers with parallax "
+        "(fewer than {} reject it): their epipolar planes coincide",
+        distinguishing, best.parallax_inliers, required_parallax);
     out.direction_uncertainty_rad = std::numeric_limits<double>::infinity();
     return out;
   }

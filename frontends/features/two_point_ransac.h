@@ -24,12 +24,21 @@
 //       depths are positive; a match without parallax only needs e_t <= threshold (its depth sign
 //       is noise). Each sample is scored for t and -t, which also fixes the sign of t.
 //   (6) score                 MSAC (Torr and Zisserman, CVIU 2000): sum_i min(e_i^2, threshold^2)
-//   (7) iterations            N = log(1 - confidence) / log(1 - w^2), w the best hypothesis'
-//       inlier share, updated when the best improves, at most max_iterations.
+//   (7) iterations            N = ceil(log(1 - confidence) / log(1 - w^2)), w the best
+//       hypothesis' inlier share, updated when the best improves, at most max_iterations. It
+//       assumes that a sample of two inliers gives a t near the best; with little parallax and
+//       many outliers it need not (tests/frontends/two_point_ransac_test.cc, a weak scene).
 //   (8) refit                 t = the eigenvector of the smallest eigenvalue of
 //       M = sum_i n_i n_i^T / (|t' x g_i|^2 + |t' x f1_i|^2) over the inliers (least squares on
 //       the Sampson errors (3), weights from the previous t'); the inliers are found again with
-//       the new t, refine_rounds times at most or until they stop changing.
+//       the new t, refine_rounds times at most, until they stop changing or the cost (6) stops
+//       falling.
+//   (9) one epipolar plane    t_perp = N x t / |N x t|, N the unit eigenvector of the largest
+//       eigenvalue of sum_i n_i n_i^T over the parallax inliers (their dominant plane normal).
+//       When every point lies on one plane through both centres, every direction in that plane
+//       fits: t_perp, the farthest of them from t, explains the inliers as well as t does. The
+//       direction counts as determined when enough parallax inliers of t have e_t(t_perp) >
+//       threshold (the same count as for the pure-rotation test below).
 //
 // Pure rotation. When the translation is zero, or every point is far or on the epipole direction,
 // the rotation alone explains the matches and t is not observable: any t fits, and the best one
@@ -40,8 +49,11 @@
 //
 // Degenerate input gives a status with a reason, never an exception (DESIGN.md "Errors"): fewer
 // than 2 usable matches; every epipolar plane the same (all normals n parallel: the points lie on
-// one plane through both centres), detected when no sample has independent normals or when the
-// refit leaves t uncertain by more than max_direction_uncertainty_rad.
+// one plane through both centres), detected when no sample has independent normals, when fewer
+// than the required parallax inliers reject t_perp of (9), or when the refit leaves t uncertain
+// by more than max_direction_uncertainty_rad. The last, local, test alone does not find the
+// plane with noisy bearings: near the epipole the weights of (8) grow as 1 / |t x f|^2 and the
+// curvature of the cost at t says nothing about directions 90 deg away.
 //
 // Thresholds are angles in radians; ThresholdFromPixels converts pixels at a focal length.
 // five_point_ransac.h is OpenCV's 5-point essential-matrix RANSAC on the same matches with the
@@ -61,7 +73,12 @@ struct EpipolarRansacOptions {
   double threshold_rad = 0.003;
   double confidence = 0.999;  // of drawing one all-inlier sample, for the adaptive count (7)
   int max_iterations = 500;   // samples drawn at most
-  uint64_t seed = 1;          // sampling (the 5-point baseline uses OpenCV's fixed generator)
+  // Samples drawn at least, whatever the adaptive count (7) says: (7) assumes that any all-inlier
+  // sample gives the model, which a pair of matches with little parallax or close normals does
+  // not (its direction is off by the noise over their small cross product). A 2-point sample costs
+  // one cross product and one scoring pass: 100 of them cost about what one 5-point sample does.
+  int min_iterations = 100;
+  uint64_t seed = 1;  // sampling (the 5-point baseline uses OpenCV's fixed generator)
   // 2-point only: when the translation counts as observed (see "Pure rotation" above).
   int min_parallax_inliers = 6;
   double min_parallax_share = 0.2;

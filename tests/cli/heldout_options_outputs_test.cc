@@ -128,7 +128,7 @@ std::vector<Case> Cases(const std::string& root) {
       {"smoother_grow_window_negative",
        "",
        "run --dataset nowhere --estimator smoother --option grow_window_s=-1 --out o.txt",
-       {"grow_window_s", ">= 0"}},
+       {"--option grow_window_s=-1", "outside [0, 1e+06] s"}},
       {"tag_ekf_rate_zero",
        "",
        "run --dataset nowhere --estimator tag-ekf --option rate_hz=0 --out o.txt",

@@ -4,6 +4,7 @@
 // expects exit code 2, one stderr line naming the file (or option) and the field, and no side
 // effect (no file created by an injected command, no report written).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <functional>
@@ -255,6 +256,23 @@ TEST_F(DamagedPartials, EveryDamagedUnitIsRefusedNamingItsField) {
        [](auto& p) { p["shards"] = 2000000000; },
        {"partial-1-of-2.json", "shard"}},
       {"shards as a fraction", [](auto& p) { p["shards"] = 2.5; }, {"shards"}},
+      // Units that are not the grid's: merged before into cells the grid does not have.
+      {"an estimator that is not in the grid",
+       [](auto& p) { p["units"][0]["estimators"][0]["name"] = "smoother"; },
+       {"partial-1-of-2.json", "units[0].estimators[0].name", "unit 0",
+        "estimator 'smoother' is not in the grid (estimators: tag-pnp)"}},
+      {"an estimator of the grid twice",
+       [](auto& p) { p["units"][0]["estimators"].push_back(p["units"][0]["estimators"][0]); },
+       {"units[0].estimators", "unit 0 has the estimators tag-pnp, tag-pnp"}},
+      {"an estimator of the grid missing",
+       [](auto& p) { p["units"][0]["estimators"] = nlohmann::json::array(); },
+       {"units[0].estimators", "the grid runs tag-pnp"}},
+      {"the seed of another unit",
+       [](auto& p) { p["units"][0]["seed"] = 7; },
+       {"partial-1-of-2.json", "units[0]", "seed 7", "not a unit of this grid"}},
+      {"another scenario",
+       [](auto& p) { p["units"][0]["scenario"] = "tag-arena-dynamic"; },
+       {"units[0]", "scenario tag-arena-dynamic", "not a unit of this grid"}},
   };
   for (const Case& c : cases) {
     const std::string work = MakeTempDir();
@@ -267,6 +285,48 @@ TEST_F(DamagedPartials, EveryDamagedUnitIsRefusedNamingItsField) {
     ExpectRefused(run, c.must_contain, c.label);
     EXPECT_FALSE(fs::exists(work + "/merged")) << c.label;
   }
+}
+
+// A unit without a metric the others have is merged, and the report and the terminal name the
+// short cell (its statistics are over fewer seeds than the cell ran).
+TEST_F(DamagedPartials, AUnitWithoutAMetricIsMergedNamingTheShortCell) {
+  const std::string work = MakeTempDir();
+  fs::copy(*dir_ + "/partials", work + "/partials");
+  const std::string path = work + "/partials/partial-1-of-2.json";
+  nlohmann::json partial = ReadJson(path);
+  partial["units"][0]["estimators"][0]["metrics"].erase("ate_rmse");
+  WriteJson(path, partial);
+  const auto run = RunCliIn(work, "sweep-merge partials --out merged");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string warning =
+      "tag-arena-hover: tag-pnp: ate_rmse has 1 value(s) for the 2 runs where it ran (missing in "
+      "unit 0)";
+  EXPECT_NE(run.err.find("warning: " + warning), std::string::npos) << run.err;
+  EXPECT_NE(ReadFileBytes(work + "/merged/report.md").find(warning), std::string::npos);
+  const nlohmann::json report = ReadJson(work + "/merged/report.json");
+  EXPECT_NE(report["warnings"].dump().find("ate_rmse has 1 value(s)"), std::string::npos)
+      << report["warnings"].dump();
+}
+
+// The partial folder is walked with the one folder walk: a named pipe named like a partial is
+// refused naming it (it blocked the read before), any other file is named as not used.
+TEST_F(DamagedPartials, TheFolderWalkRefusesAPipeAndNamesWhatItSkips) {
+  const std::string work = MakeTempDir();
+  fs::copy(*dir_ + "/partials", work + "/partials");
+  WriteFileBytes(work + "/partials/notes.txt", "mine\n");
+  auto run = RunCliIn(work, "sweep-merge partials --out merged");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("partials/notes.txt: not used: not a partial file"), std::string::npos)
+      << run.err;
+  fs::remove(work + "/partials/partial-2-of-2.json");
+  ASSERT_EQ(::mkfifo((work + "/partials/partial-2-of-2.json").c_str(), 0644), 0);
+  // A timeout: the merge blocked in open() on the pipe before.
+  const testing::CommandResult piped = testing::RunCommand(
+      "cd " + work + " && timeout 60 " + CliPath() + " sweep-merge partials --out merged2");
+  EXPECT_EQ(piped.exit_code, 2) << piped.output;
+  EXPECT_NE(piped.output.find("partial-2-of-2.json: is a named pipe"), std::string::npos)
+      << piped.output;
+  EXPECT_FALSE(fs::exists(work + "/merged2"));
 }
 
 // ---- figures: a report folder is one whose report.json says so ----

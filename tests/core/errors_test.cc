@@ -1,6 +1,7 @@
 // PrintableMessage (core/errors.h): every error line stays one readable line whatever the input
 // held: control bytes and invalid UTF-8 escaped, valid UTF-8 kept, long messages cut in the middle
-// without splitting an escape or a character.
+// without splitting an escape or a character; an InputError without a file does not start with
+// ": ", and a NUL byte in its message does not end it.
 #include "core/errors.h"
 
 #include <gtest/gtest.h>
@@ -55,6 +56,24 @@ TEST(PrintableMessage, CuttingNeverSplitsAnEscapeOrACharacter) {
   std::string expected;
   for (int i = 0; expected.size() < head.size(); ++i) expected += i % 2 ? "\\x01" : "\xc3\xa9";
   EXPECT_EQ(head, expected);
+}
+
+// ---- InputError: the message a user reads is the whole message
+
+TEST(InputError, AnOptionWithoutAFileIsNotAnEmptyName) {
+  // Was ": field 'delay_s': must be >= 0".
+  EXPECT_STREQ(InputError("", 0, "delay_s", "must be >= 0").what(),
+               "field 'delay_s': must be >= 0");
+  EXPECT_STREQ(InputError("a.csv", 3, "x", "bad").what(), "a.csv:3: field 'x': bad");
+  EXPECT_STREQ(InputError("a.csv", 0, "", "bad").what(), "a.csv: bad");
+}
+
+TEST(InputError, ANulByteDoesNotEndTheMessage) {
+  // what() is a C string: a ULog format "uint64_t\0timestamp" ended the line inside its quote.
+  const std::string field("uint64_t\0timestamp", 18);
+  const InputError error("log.ulg", 0, "", "field '" + field + "' has no 'type name' form");
+  EXPECT_STREQ(error.what(), "log.ulg: field 'uint64_t\\x00timestamp' has no 'type name' form");
+  EXPECT_STREQ(InputError(std::string("a\0b", 3)).what(), "a\\x00b");
 }
 
 }  // namespace
