@@ -113,10 +113,12 @@ class SmootherEstimator : public Estimator {
   // Camera indices whose tags enter (option `cameras`).
   std::vector<int> CamerasFor(const Dataset& dataset) const;
   bool IsLaserOnly(const Dataset& dataset) const;
-  // The growing window over the track keyframes `times` from `start` (smoother_tracks.cc).
+  // The growing window over the track keyframes `times` from `start` (smoother_tracks.cc); what
+  // its stages took is appended to *timing ("sliding window: ...; batch: ...").
   SmootherResult SolveTracksGrowing(const Dataset& tracked, const std::vector<TimeNs>& times,
                                     const ImuKeyframeState& start,
-                                    const SmootherProblemOptions& options) const;
+                                    const SmootherProblemOptions& options,
+                                    std::string* timing) const;
   // The windows to solve `keyframes` in (options window_s, window_overlap_s, memory_budget_mib),
   // nullopt for one batch; the choice is added to the estimate's events.
   std::optional<SmootherWindowOptions> WindowsFor(const Dataset& dataset,

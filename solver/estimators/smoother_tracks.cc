@@ -8,6 +8,7 @@
 // the batch solved once more.
 #include <fmt/format.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <set>
 
@@ -169,7 +170,13 @@ bool HasFeatureTracks(const Dataset& dataset) {
 SmootherResult SmootherEstimator::SolveTracksGrowing(const Dataset& tracked,
                                                      const std::vector<TimeNs>& times,
                                                      const ImuKeyframeState& start,
-                                                     const SmootherProblemOptions& options) const {
+                                                     const SmootherProblemOptions& options,
+                                                     std::string* timing) const {
+  const auto seconds_since = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
+  double sliding_s = 0.0;
+  int sliding_solves = 0;
   const TimeNs step_ns = SecondsToNs(options_.GetDouble("track_step_s", kDefaultTrackStepS));
   const double window_s = options_.GetDouble("track_window_s", kDefaultTrackWindowS);
   const TimeNs window_ns = window_s > 0.0 ? SecondsToNs(window_s) : 0;
@@ -204,8 +211,19 @@ SmootherResult SmootherEstimator::SolveTracksGrowing(const Dataset& tracked,
     const Dataset slice =
         free_begin > 0 ? SlidingWindowSlice(tracked, current, begin, free_begin) : Dataset{};
     const std::vector<SmootherKeyframe> problem_keyframes(current.begin() + begin, current.end());
+    const auto t_solve = std::chrono::steady_clock::now();
     SmootherResult result = SolveSmoother(free_begin > 0 ? slice : tracked, problem_keyframes,
                                           landmarks, std::nullopt, stage);
+    if (last) {
+      *timing = fmt::format(
+          "sliding window: {} solves in {:.1f} s; batch over {} keyframes and {} tracks: {:.1f} s "
+          "({} iterations)",
+          sliding_solves, sliding_s, problem_keyframes.size(), result.landmarks_W.size(),
+          seconds_since(t_solve), result.statistics.iterations);
+    } else {
+      sliding_s += seconds_since(t_solve);
+      ++sliding_solves;
+    }
     if (!result.usable || result.keyframes.size() != problem_keyframes.size() || last) {
       AddStatistics(earlier, &result.statistics);
       if (!last && result.usable) {
@@ -281,7 +299,9 @@ Estimate SmootherEstimator::RunFromTracks(const Dataset& dataset) {
       keyframe_options.max_interval_s, problem_options.zero_velocity_times.size(), left_out,
       start_how));
 
-  last_result_ = SolveTracksGrowing(tracked, times, start, problem_options);
+  std::string timing;
+  last_result_ = SolveTracksGrowing(tracked, times, start, problem_options, &timing);
+  const auto t_outliers = std::chrono::steady_clock::now();
   // Tracks whose reprojection error stays high after the solve (a wrong match that the loss only
   // down-weights) are removed and the batch solved once more from the solution.
   const double outlier_px = options_.GetDouble("track_outlier_px", kDefaultTrackOutlierPx);
@@ -302,8 +322,12 @@ Estimate SmootherEstimator::RunFromTracks(const Dataset& dataset) {
       estimate.events.push_back(fmt::format(
           "removed {} of {} tracks whose reprojection error stayed above {:g} px after the solve",
           outliers.size(), last_result_.landmarks_W.size() + outliers.size(), outlier_px));
+      timing += fmt::format(
+          "; the batch again without them: {:.1f} s",
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t_outliers).count());
     }
   }
+  if (!timing.empty()) estimate.events.push_back(timing);
   RefitImuNoise(dataset, problem_options, &last_result_, &estimate);
   const SmootherResult& result = last_result_;
   if (!result.usable) {
