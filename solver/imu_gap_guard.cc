@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "core/errors.h"
@@ -24,6 +25,15 @@ std::vector<Segment> Segments(const Dataset& dataset, const std::vector<ImuGap>&
   }
   segments.push_back({from_ns, dataset.imu.samples.back().t_ns});
   return segments;
+}
+
+// cam0 frames strictly inside (from_ns, to_ns) (none without a camera).
+int FramesWithin(const Dataset& dataset, TimeNs from_ns, TimeNs to_ns) {
+  if (dataset.cameras.empty()) return 0;
+  int count = 0;
+  for (const CameraFrame& frame : dataset.cameras.front().frames)
+    count += frame.t_ns > from_ns && frame.t_ns < to_ns;
+  return count;
 }
 
 void Append(const Estimate& part, Estimate* joined) {
@@ -84,7 +94,8 @@ Estimate ImuGapGuard::Run(const Dataset& dataset) {
     std::unique_ptr<Estimator> fresh = create_();
     const Applicability applies = fresh->AppliesTo(part);
     if (!applies.applies) {
-      joined.CountFailure("IMU segment between gaps not estimated: " + applies.reason);
+      joined.failures["IMU segment between gaps not estimated: " + applies.reason] +=
+          std::max(1, FramesWithin(dataset, segment.from_ns - 1, segment.to_ns + 1));
       continue;
     }
     const Estimate estimate = fresh->Run(part);
@@ -96,6 +107,10 @@ Estimate ImuGapGuard::Run(const Dataset& dataset) {
       joined.T_W_M = estimate.T_W_M;
     }
   }
+  // Every frame is posed or counted: those inside a gap have no IMU to carry a state to them.
+  for (const ImuGap& gap : gaps)
+    if (const int inside = FramesWithin(dataset, gap.from_ns, gap.to_ns); inside > 0)
+      joined.failures["frame inside an IMU gap (no IMU to carry the state there)"] += inside;
   joined.parameters["imu_gap_restarts"] = {static_cast<double>(gaps.size()), std::nullopt, ""};
   return joined;
 }

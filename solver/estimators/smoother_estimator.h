@@ -74,6 +74,7 @@
 #pragma once
 
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -114,11 +115,13 @@ class SmootherEstimator : public Estimator {
   std::vector<int> CamerasFor(const Dataset& dataset) const;
   bool IsLaserOnly(const Dataset& dataset) const;
   // The growing window over the track keyframes `times` from `start` (smoother_tracks.cc); what
-  // its stages took is appended to *timing ("sliding window: ...; batch: ...").
-  SmootherResult SolveTracksGrowing(const Dataset& tracked, const std::vector<TimeNs>& times,
+  // its stages took is appended to *timing ("sliding window: ...; batch: ..."). Tracks whose
+  // reprojection error stays high after a sliding solve are removed from *tracked and listed in
+  // *removed.
+  SmootherResult SolveTracksGrowing(Dataset* tracked, const std::vector<TimeNs>& times,
                                     const ImuKeyframeState& start,
-                                    const SmootherProblemOptions& options,
-                                    std::string* timing) const;
+                                    const SmootherProblemOptions& options, std::string* timing,
+                                    std::set<int>* removed) const;
   // The windows to solve `keyframes` in (options window_s, window_overlap_s, memory_budget_mib),
   // nullopt for one batch; the choice is added to the estimate's events.
   std::optional<SmootherWindowOptions> WindowsFor(const Dataset& dataset,

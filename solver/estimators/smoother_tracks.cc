@@ -34,6 +34,7 @@ constexpr double kContextS = 3.0;
 // Ceres' relative tolerances on the tracks: the solves otherwise creep on for dozens of
 // iterations at relative cost changes of 1e-7, moving the poses by micrometres.
 constexpr double kTrackFunctionTolerance = 1e-8;
+constexpr double kSlidingTolerance = 1e-6;
 constexpr double kDefaultTrackOutlierPx = 3.0;
 // A frame whose tracks moved less than this since the previous frame shows the vehicle at rest:
 // 0.3 px at EuRoC's 458 px focal length is 0.65 mrad, 2 mm at 3 m in 50 ms (4 cm/s).
@@ -167,11 +168,12 @@ bool HasFeatureTracks(const Dataset& dataset) {
          dataset.map.parameters.count("D") == 0;
 }
 
-SmootherResult SmootherEstimator::SolveTracksGrowing(const Dataset& tracked,
-                                                     const std::vector<TimeNs>& times,
-                                                     const ImuKeyframeState& start,
-                                                     const SmootherProblemOptions& options,
-                                                     std::string* timing) const {
+SmootherResult SmootherEstimator::SolveTracksGrowing(
+    Dataset* tracked_io, const std::vector<TimeNs>& times, const ImuKeyframeState& start,
+    const SmootherProblemOptions& options, std::string* timing, std::set<int>* removed) const {
+  Dataset& tracked = *tracked_io;
+  const double outlier_rad = options_.GetDouble("track_outlier_px", kDefaultTrackOutlierPx) /
+                             tracked.cameras.front().model.fu();
   const auto seconds_since = [](std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   };
@@ -206,7 +208,13 @@ SmootherResult SmootherEstimator::SolveTracksGrowing(const Dataset& tracked,
       --begin;
     if (begin == free_begin && free_begin > 0) --begin;  // at least the IMU link into the window
     SmootherProblemOptions stage = options;
-    if (!last) stage.compute_covariance = false;
+    if (!last) {
+      // A sliding solve only starts the next one and, at the end, the batch (which relinearizes
+      // and converges to 1e-8): looser tolerances and no relinearization round here.
+      stage.compute_covariance = false;
+      stage.function_tolerance = stage.parameter_tolerance = kSlidingTolerance;
+      stage.relinearize_rounds = 0;
+    }
     stage.constant_keyframes = static_cast<int>(free_begin - begin);
     const Dataset slice =
         free_begin > 0 ? SlidingWindowSlice(tracked, current, begin, free_begin) : Dataset{};
@@ -236,6 +244,19 @@ SmootherResult SmootherEstimator::SolveTracksGrowing(const Dataset& tracked,
     AddStatistics(result.statistics, &earlier);
     std::copy(result.keyframes.begin(), result.keyframes.end(), current.begin() + begin);
     for (const auto& [id, p] : result.landmarks_W) landmarks[id] = p;
+    // Tracks whose reprojection error is high already here (a wrong match the loss only
+    // down-weights) leave before the batch, which then needs no second solve for them.
+    const std::set<int> outliers =
+        OutlierTracks(free_begin > 0 ? slice : tracked, result, outlier_rad);
+    for (const int id : outliers) {
+      landmarks.erase(id);
+      triangulated.insert(id);  // not triangulated again
+      removed->insert(id);
+    }
+    if (!outliers.empty()) {
+      RemoveTracks(outliers, &tracked.features);
+      RemoveTracks(outliers, &tracked.features1);
+    }
     window_end += step_ns;
   }
 }
@@ -300,7 +321,9 @@ Estimate SmootherEstimator::RunFromTracks(const Dataset& dataset) {
       start_how));
 
   std::string timing;
-  last_result_ = SolveTracksGrowing(tracked, times, start, problem_options, &timing);
+  std::set<int> removed_sliding;
+  last_result_ =
+      SolveTracksGrowing(&tracked, times, start, problem_options, &timing, &removed_sliding);
   const auto t_outliers = std::chrono::steady_clock::now();
   // Tracks whose reprojection error stays high after the solve (a wrong match that the loss only
   // down-weights) are removed and the batch solved once more from the solution.
@@ -313,19 +336,26 @@ Estimate SmootherEstimator::RunFromTracks(const Dataset& dataset) {
       RemoveTracks(outliers, &tracked.features1);
       std::map<int, Eigen::Vector3d> kept = last_result_.landmarks_W;
       for (int id : outliers) kept.erase(id);
+      // From the batch's solution, relinearized there: no second round.
+      SmootherProblemOptions again_options = problem_options;
+      again_options.relinearize_rounds = 0;
       SmootherResult again =
-          SolveSmoother(tracked, last_result_.keyframes, kept, std::nullopt, problem_options);
+          SolveSmoother(tracked, last_result_.keyframes, kept, std::nullopt, again_options);
       if (again.usable) {
         AddStatistics(last_result_.statistics, &again.statistics);
         last_result_ = std::move(again);
       }
-      estimate.events.push_back(fmt::format(
-          "removed {} of {} tracks whose reprojection error stayed above {:g} px after the solve",
-          outliers.size(), last_result_.landmarks_W.size() + outliers.size(), outlier_px));
       timing += fmt::format(
           "; the batch again without them: {:.1f} s",
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t_outliers).count());
     }
+    const size_t removed = removed_sliding.size() + outliers.size();
+    if (removed > 0)
+      estimate.events.push_back(fmt::format(
+          "removed {} of {} tracks whose reprojection error stayed above {:g} px after a solve ({} "
+          "after a sliding-window solve, {} after the batch)",
+          removed, last_result_.landmarks_W.size() + removed, outlier_px, removed_sliding.size(),
+          outliers.size()));
   }
   if (!timing.empty()) estimate.events.push_back(timing);
   RefitImuNoise(dataset, problem_options, &last_result_, &estimate);

@@ -461,6 +461,24 @@ TEST(ImuGaps, ResetRestartsAfterTheGapAndTheReportSaysSo) {
   EXPECT_LT(ate["rmse"].get<double>(), 5.0) << ate.dump();
 }
 
+// Every frame is posed or counted: the smoother restarted after the gap poses the frames of both
+// segments, and the frames inside the 5 s gap are counted as frames without pose.
+TEST(ImuGaps, EveryFrameIsPosedOrCounted) {
+  const std::string dir = MakeTempDir();
+  DatasetWithImuGap(dir);
+  const auto run = RunCliIn(
+      dir, "compare --dataset ds --estimators smoother --option imu_gaps=reset --report r");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string frames_csv = ReadFileBytes(dir + "/ds/mav0/cam0/data.csv");
+  const int frames = static_cast<int>(std::count(frames_csv.begin(), frames_csv.end(), '\n')) - 1;
+  const nlohmann::json e = testing::ReportEstimator(ReadJson(dir + "/r/report.json"), "smoother");
+  ASSERT_TRUE(e.is_object());
+  const int posed = e["coverage"]["estimate_poses"].get<int>();
+  const int counted = e["frames_without_pose"].get<int>();
+  EXPECT_EQ(posed + counted, frames) << e.dump();
+  EXPECT_GE(counted, 95);  // 5 s at 20 Hz inside the gap
+}
+
 TEST(ImuGaps, AnUnknownPolicyIsRefused) {
   const std::string dir = MakeTempDir();
   const auto run = RunCliIn(dir,
