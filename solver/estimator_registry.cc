@@ -328,6 +328,7 @@ const std::vector<EstimatorEntry>& EstimatorRegistry() {
            "extrinsics_prior_deg",
            "extrinsics_prior_m",
            "fit_imu_noise",
+           "gauge_prior",
            "graduated",
            "gravity_window_s",
            "grow_window_s",

@@ -264,6 +264,7 @@ SmootherResult SmootherEstimator::SolveTracksGrowing(
 Estimate SmootherEstimator::RunFromTracks(const Dataset& dataset) {
   SmootherProblemOptions problem_options = ProblemOptionsFor(dataset);
   problem_options.landmarks = LandmarkMode::kTracks;
+  problem_options.hold_gauge = options_.GetBool("gauge_prior", true);
   problem_options.function_tolerance = kTrackFunctionTolerance;
   problem_options.parameter_tolerance = kTrackFunctionTolerance;
   const CameraSensor& cam0 = dataset.cameras.front();
@@ -369,6 +370,14 @@ Estimate SmootherEstimator::RunFromTracks(const Dataset& dataset) {
   estimate.parameters["tracks"] = {static_cast<double>(result.landmarks_W.size()), std::nullopt,
                                    ""};
   if (problem_options.compute_covariance) estimate.covariance_names = PoseQuantityNames(false);
+  if (problem_options.compute_covariance &&
+      std::none_of(result.pose_covariances.begin(), result.pose_covariances.end(),
+                   [](const auto& c) { return c.has_value(); }))
+    estimate.events.push_back(fmt::format(
+        "no covariance: the information matrix is rank deficient (smallest relative pivot "
+        "{:.3g}){}",
+        result.statistics.covariance_min_relative_pivot,
+        problem_options.hold_gauge ? "" : "; the gauge prior was removed (gauge_prior=0)"));
   AppendKeyframeStates(result, &estimate);
   NoteUnconverged(result, problem_options.max_iterations, &estimate);
   return estimate;

@@ -575,6 +575,8 @@ SmootherResult SolveSmoother(const Dataset& dataset, const std::vector<SmootherK
         it->second[2] = 0.0;
         problem.SetManifold(it->second.data(), &fix_z);
       }
+    } else if (!options.hold_gauge) {
+      // Left free on purpose (SmootherProblemOptions::hold_gauge).
     } else if (unknown_landmarks_used || (use_laser && options.estimate_plane)) {
       // Free landmarks, or the laser spot on an unknown plane: the first keyframe's position and
       // its yaw (rotation about gravity) define the frame (strong prior at the seed).

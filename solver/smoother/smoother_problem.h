@@ -98,6 +98,10 @@ struct SmootherProblemOptions {
   // track_keyframes.h StationaryFrames): a prior v_W = 0 on each, a zero-velocity update. A static
   // mono camera sees no parallax, so nothing else stops an accelerometer bias from moving it.
   std::vector<TimeNs> zero_velocity_times;
+  // Unknown landmarks (tracks, the laser plane): the prior that holds the first keyframe's
+  // position and yaw. Without it those 4 degrees of freedom are free and the information matrix is
+  // rank deficient (a covariance then fails and says so): for tests of the gauge.
+  bool hold_gauge = true;
   double zero_velocity_sigma_m_s = 0.02;
   // kUnknownGround: the distance D = |P1 P2| when given (as the closed-form solvers are given it);
   // unset = estimated from the IMU.

@@ -266,5 +266,30 @@ TEST_F(EurocVisionTest, TheSlidingWindowEndsOnTheBatchSolution) {
   EXPECT_LT(largest_m, 0.05 * largest_truth_m);
 }
 
+// The gauge: with unknown landmarks the first keyframe's position and yaw are unobservable, and the
+// smoother holds them by a prior. With the prior removed (gauge_prior=0) the information matrix is
+// rank deficient: no covariance, and the smoother says so; with it, every keyframe has one.
+TEST_F(EurocVisionTest, WithoutTheGaugePriorTheSmootherSaysItIsRankDeficient) {
+  Dataset d = Render("mono", 4.0, 1, {{"imu", "from_ground_truth"}});
+  d.features = TrackFeaturesInDataset(d, FeatureTrackingSettings{}).features0;
+  const auto run = [&](const std::string& gauge_prior) {
+    EstimatorOptions options;
+    options.Set("covariance", "1");
+    options.Set("gauge_prior", gauge_prior);
+    return FindEstimator("smoother")->create(options)->Run(d);
+  };
+  const Estimate held = run("1");
+  ASSERT_GT(held.poses.size(), 10u);
+  EXPECT_EQ(held.covariances.size(), held.poses.size());
+  const Estimate free = run("0");
+  EXPECT_TRUE(free.covariances.empty());
+  const bool said = std::any_of(free.events.begin(), free.events.end(), [](const std::string& e) {
+    return e.find("rank deficient") != std::string::npos &&
+           e.find("gauge_prior=0") != std::string::npos;
+  });
+  EXPECT_TRUE(said);
+  for (const std::string& e : free.events) std::printf("%s\n", e.c_str());
+}
+
 }  // namespace
 }  // namespace mavloc
