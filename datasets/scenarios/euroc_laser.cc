@@ -76,6 +76,25 @@ ImuSensor ImuFromGroundTruth(const std::vector<GroundTruthState>& truth) {
   return imu;
 }
 
+std::vector<GroundTruthState> EurocGroundTruth(const std::vector<StampedPose>& poses,
+                                               const GroundTruthState& bias_source, TimeNs t_begin,
+                                               TimeNs t_end) {
+  std::vector<GroundTruthState> truth;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    if (poses[i].t_ns < t_begin || poses[i].t_ns > t_end) continue;
+    const size_t lo = i >= 2 ? i - 2 : 0, hi = std::min(poses.size() - 1, i + 2);
+    GroundTruthState row;
+    row.t_ns = poses[i].t_ns;
+    row.T_W_B = poses[i].T_W_B;
+    row.v_W =
+        (poses[hi].T_W_B.p - poses[lo].T_W_B.p) / NsToSeconds(poses[hi].t_ns - poses[lo].t_ns);
+    row.b_g = bias_source.b_g;
+    row.b_a = bias_source.b_a;
+    truth.push_back(row);
+  }
+  return truth;
+}
+
 std::string FindDefaultEurocLaserData() {
   for (const auto& candidate : CandidateDataPaths()) {
     if (std::filesystem::is_directory(candidate / "mav0")) {
@@ -158,19 +177,8 @@ Dataset GenerateEurocLaser(const ScenarioOptions& options) {
   // Ground truth: T_W_B from the TUM file (B = imu0), v by central differences over +-2 rows.
   const GroundTruthState bias_source =
       euroc.ground_truth.empty() ? GroundTruthState{} : euroc.ground_truth.front();
-  const TimeNs imu_begin = d.imu.samples.front().t_ns, imu_end = d.imu.samples.back().t_ns;
-  for (size_t i = 0; i < poses.size(); ++i) {
-    if (poses[i].t_ns < imu_begin || poses[i].t_ns > imu_end) continue;
-    const size_t lo = i >= 2 ? i - 2 : 0, hi = std::min(poses.size() - 1, i + 2);
-    GroundTruthState row;
-    row.t_ns = poses[i].t_ns;
-    row.T_W_B = poses[i].T_W_B;
-    row.v_W =
-        (poses[hi].T_W_B.p - poses[lo].T_W_B.p) / NsToSeconds(poses[hi].t_ns - poses[lo].t_ns);
-    row.b_g = bias_source.b_g;
-    row.b_a = bias_source.b_a;
-    d.ground_truth.push_back(row);
-  }
+  d.ground_truth =
+      EurocGroundTruth(poses, bias_source, d.imu.samples.front().t_ns, d.imu.samples.back().t_ns);
   if (imu_source == "from_ground_truth") {
     d.imu = ImuFromGroundTruth(d.ground_truth);
     for (auto& row : d.ground_truth) row.b_g = row.b_a = Eigen::Vector3d::Zero();

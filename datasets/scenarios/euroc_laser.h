@@ -42,4 +42,10 @@ std::string FindDefaultEurocLaserData();
 // stated noise densities are small floors (gyro 1e-4 rad/s/sqrt(Hz), accel 5e-3 m/s^2/sqrt(Hz)).
 ImuSensor ImuFromGroundTruth(const std::vector<GroundTruthState>& truth);
 
+// The ground truth of [t_begin, t_end] from the rows of groundtruth_full_tum.txt: T_W_B as read,
+// v by central differences over +-2 rows, the biases of bias_source (constant).
+std::vector<GroundTruthState> EurocGroundTruth(const std::vector<StampedPose>& poses,
+                                               const GroundTruthState& bias_source, TimeNs t_begin,
+                                               TimeNs t_end);
+
 }  // namespace mavloc

@@ -80,27 +80,6 @@ CameraSensor ScaledEurocCamera(const CameraSensor& real, double scale, double ra
   return camera;
 }
 
-// The ground truth of [t_begin, t_end]: T_W_B from the TUM file, v by central differences over
-// +-2 rows, the biases of bias_source.
-std::vector<GroundTruthState> EurocVisionTruth(const std::vector<StampedPose>& poses,
-                                               const GroundTruthState& bias_source, TimeNs t_begin,
-                                               TimeNs t_end) {
-  std::vector<GroundTruthState> truth;
-  for (size_t i = 0; i < poses.size(); ++i) {
-    if (poses[i].t_ns < t_begin || poses[i].t_ns > t_end) continue;
-    const size_t lo = i >= 2 ? i - 2 : 0, hi = std::min(poses.size() - 1, i + 2);
-    GroundTruthState row;
-    row.t_ns = poses[i].t_ns;
-    row.T_W_B = poses[i].T_W_B;
-    row.v_W =
-        (poses[hi].T_W_B.p - poses[lo].T_W_B.p) / NsToSeconds(poses[hi].t_ns - poses[lo].t_ns);
-    row.b_g = bias_source.b_g;
-    row.b_a = bias_source.b_a;
-    truth.push_back(row);
-  }
-  return truth;
-}
-
 std::string DescribeRoom(const TexturedRoom& room) {
   std::string text =
       fmt::format("x {:g} .. {:g}, y {:g} .. {:g}, z {:g} .. {:g} m; boxes", room.min_W.x(),
@@ -194,13 +173,13 @@ Dataset GenerateEurocVision(const ScenarioOptions& options) {
                                [](const ImuSample& sample, TimeNs t) { return sample.t_ns < t; });
   if (last != all.end()) ++last;
   d.imu.samples.assign(first, last);
-  d.ground_truth = EurocVisionTruth(
+  d.ground_truth = EurocGroundTruth(
       poses, euroc.ground_truth.empty() ? GroundTruthState{} : euroc.ground_truth.front(), t_begin,
       t_end);
   if (s.imu_from_ground_truth) {
     // The IMU derived from the same truth the images are rendered from: the real IMU's scale,
     // misalignment and bias changes, which the truth does not share, are left out.
-    d.imu = ImuFromGroundTruth(EurocVisionTruth(
+    d.imu = ImuFromGroundTruth(EurocGroundTruth(
         poses, GroundTruthState{}, t_begin - SecondsToNs(0.1), t_end + SecondsToNs(0.1)));
     for (auto& row : d.ground_truth) row.b_g = row.b_a = Eigen::Vector3d::Zero();
     // The derivation needs +-50 ms of truth: at the ends of the flight the truth is cut to the
