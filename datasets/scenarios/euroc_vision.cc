@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 
 #include "core/errors.h"
 #include "core/random.h"
@@ -99,6 +100,44 @@ std::string DescribeTextures(const RoomTextures& textures, const std::vector<Tex
         "{}{}: {}", k == 0 ? "" : "; ", kRoomFaceNames[k],
         std::filesystem::path(textures.textures[faces[k].texture].path).filename().string());
   return text + "; boxes: the others in turn";
+}
+
+// The scenario's scenario.yaml entries (settings and what was generated).
+std::map<std::string, std::string> EurocVisionInfo(const ScenarioOptions& options,
+                                                   const EurocVisionSettings& s,
+                                                   const TexturedFrameSettings& image_settings,
+                                                   const Dataset& d, const TexturedRoom& room,
+                                                   const std::string& images) {
+  const CameraModel& m0 = d.cameras.front().model;
+  return {
+      {"scenario", kEurocVision},
+      {"seed", std::to_string(options.seed)},
+      {"data", s.data},
+      {"imu", s.imu_from_ground_truth
+                  ? "derived from the ground truth (no bias, no noise; rates from attitude "
+                    "differences, accelerations from second differences over +-50 ms)"
+                  : "real EuRoC V1_01_easy imu0 (ADIS16448, 200 Hz)"},
+      {"ground_truth",
+       "groundtruth_full_tum.txt = T_W_B of the IMU frame (EuRoC state_groundtruth_estimate0); v "
+       "by central differences; biases constant, the ASL estimate's first row"},
+      {"duration_s", fmt::format("{:.3f}", NsToSeconds(d.ground_truth.back().t_ns -
+                                                       d.ground_truth.front().t_ns))},
+      {"start_s", fmt::format("{}", s.start_s)},
+      {"cameras",
+       fmt::format(
+           "{}: EuRoC's calibration and T_BS (sensor.yaml of {}), {} x {} px{}",
+           s.stereo ? "cam0 + cam1" : "cam0", s.data, m0.width(), m0.height(),
+           s.image_scale == 1.0 ? std::string() : fmt::format(" (scaled by {})", s.image_scale))},
+      {"camera_rate_hz", fmt::format("{}", s.camera_rate_hz)},
+      {"room", DescribeRoom(room)},
+      {"texel_m", fmt::format("{}", s.texel_m)},
+      {"textures", image_settings.textures},
+      {"exposure_s", fmt::format("{} (at most {} renders per image)", image_settings.exposure_s,
+                                 image_settings.blur_samples)},
+      {"gain", fmt::format("{}", image_settings.render.gain)},
+      {"image_noise_grey", fmt::format("{}", image_settings.render.noise_sigma_grey)},
+      {"images", images},
+  };
 }
 
 }  // namespace
@@ -208,36 +247,7 @@ Dataset GenerateEurocVision(const ScenarioOptions& options) {
         summary.images, summary.mean_renders_per_image, summary.invalid_pixels);
   }
   d.cameras = std::move(cameras);
-  const CameraModel& m0 = d.cameras.front().model;
-  d.scenario_info = {
-      {"scenario", kEurocVision},
-      {"seed", std::to_string(options.seed)},
-      {"data", s.data},
-      {"imu", s.imu_from_ground_truth
-                  ? "derived from the ground truth (no bias, no noise; rates from attitude "
-                    "differences, accelerations from second differences over +-50 ms)"
-                  : "real EuRoC V1_01_easy imu0 (ADIS16448, 200 Hz)"},
-      {"ground_truth",
-       "groundtruth_full_tum.txt = T_W_B of the IMU frame (EuRoC state_groundtruth_estimate0); v "
-       "by central differences; biases constant, the ASL estimate's first row"},
-      {"duration_s", fmt::format("{:.3f}", NsToSeconds(d.ground_truth.back().t_ns -
-                                                       d.ground_truth.front().t_ns))},
-      {"start_s", fmt::format("{}", s.start_s)},
-      {"cameras",
-       fmt::format(
-           "{}: EuRoC's calibration and T_BS (sensor.yaml of {}), {} x {} px{}",
-           s.stereo ? "cam0 + cam1" : "cam0", s.data, m0.width(), m0.height(),
-           s.image_scale == 1.0 ? std::string() : fmt::format(" (scaled by {})", s.image_scale))},
-      {"camera_rate_hz", fmt::format("{}", s.camera_rate_hz)},
-      {"room", DescribeRoom(room)},
-      {"texel_m", fmt::format("{}", s.texel_m)},
-      {"textures", image_settings.textures},
-      {"exposure_s", fmt::format("{} (at most {} renders per image)", image_settings.exposure_s,
-                                 image_settings.blur_samples)},
-      {"gain", fmt::format("{}", image_settings.render.gain)},
-      {"image_noise_grey", fmt::format("{}", image_settings.render.noise_sigma_grey)},
-      {"images", images},
-  };
+  d.scenario_info = EurocVisionInfo(options, s, image_settings, d, room, images);
   if (textures) {
     d.scenario_info["texture_faces"] =
         DescribeTextures(*textures, TexturedRoomFaces(room, *textures));

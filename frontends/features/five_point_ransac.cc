@@ -29,13 +29,7 @@ EpipolarRansacResult FivePointRansac(const std::vector<Eigen::Vector3d>& f_C0,
                                      const std::vector<Eigen::Vector3d>& f_C1,
                                      const EpipolarRansacOptions& options) {
   EpipolarRansacResult out;
-  if (f_C0.size() != f_C1.size()) {
-    out.status = EpipolarRansacStatus::kInvalidInput;
-    out.reason = fmt::format("{} bearings in the previous frame but {} in the current one",
-                             f_C0.size(), f_C1.size());
-    return out;
-  }
-  out.inlier.assign(f_C0.size(), false);
+  if (!StartEpipolarResult(f_C0, f_C1, &out)) return out;
 
   // Normalized image coordinates of the usable matches (finite, in front of the image plane).
   std::vector<size_t> index;

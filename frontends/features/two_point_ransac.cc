@@ -184,19 +184,25 @@ int RansacIterations(double confidence, double inlier_share, int sample_size, in
   return std::max(1, static_cast<int>(std::ceil(n)));
 }
 
+bool StartEpipolarResult(const std::vector<Eigen::Vector3d>& f_C0,
+                         const std::vector<Eigen::Vector3d>& f_C1, EpipolarRansacResult* out) {
+  if (f_C0.size() != f_C1.size()) {
+    out->status = EpipolarRansacStatus::kInvalidInput;
+    out->reason = fmt::format("{} bearings in the previous frame but {} in the current one",
+                              f_C0.size(), f_C1.size());
+    return false;
+  }
+  out->inlier.assign(f_C0.size(), false);
+  return true;
+}
+
 EpipolarRansacResult TwoPointRansac(const std::vector<Eigen::Vector3d>& f_C0,
                                     const std::vector<Eigen::Vector3d>& f_C1,
                                     const Eigen::Matrix3d& R_C1_C0,
                                     const EpipolarRansacOptions& options) {
   EpipolarRansacResult out;
   out.R_C1_C0 = R_C1_C0;
-  if (f_C0.size() != f_C1.size()) {
-    out.status = EpipolarRansacStatus::kInvalidInput;
-    out.reason = fmt::format("{} bearings in the previous frame but {} in the current one",
-                             f_C0.size(), f_C1.size());
-    return out;
-  }
-  out.inlier.assign(f_C0.size(), false);
+  if (!StartEpipolarResult(f_C0, f_C1, &out)) return out;
   const double tau = options.threshold_rad;
 
   std::vector<TwoPointMatch> matches;

@@ -128,6 +128,11 @@ struct EpipolarRansacResult {
   bool has_inliers() const { return ok() || status == EpipolarRansacStatus::kPureRotation; }
 };
 
+// The start of both RANSACs' results: false, with status kInvalidInput and the reason, when the
+// two bearing lists differ in size; otherwise every match marked an outlier.
+bool StartEpipolarResult(const std::vector<Eigen::Vector3d>& f_C0,
+                         const std::vector<Eigen::Vector3d>& f_C1, EpipolarRansacResult* out);
+
 // Rotation-aided 2-point RANSAC over the translation direction (equations (1)-(8) above). f_C0[i]
 // and f_C1[i] are the bearings of match i (normalised here, so any positive length will do).
 EpipolarRansacResult TwoPointRansac(const std::vector<Eigen::Vector3d>& f_C0,

@@ -17,6 +17,9 @@ Eigen::Matrix3d EulerJacobian(const Eigen::Quaterniond& q);
 void RefitImuNoise(const Dataset& dataset, const SmootherProblemOptions& options,
                    SmootherResult* result, Estimate* estimate);
 
+// An unusable solution counts all `frames` as failures under "smoother: <why>" and returns true.
+bool CountUnusableSolve(const SmootherResult& result, int frames, Estimate* estimate);
+
 // An estimate whose last solve stopped at max_iterations says so in its events.
 void NoteUnconverged(const SmootherResult& result, int max_iterations, Estimate* estimate);
 

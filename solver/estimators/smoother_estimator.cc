@@ -290,6 +290,13 @@ void RefitImuNoise(const Dataset& dataset, const SmootherProblemOptions& options
 // An estimate whose last solve stopped at max_iterations says so: it is not at the optimum, and its
 // numbers move with the arithmetic's rounding (an analytic instead of an automatic Jacobian,
 // another compiler) by up to the size of the steps it was still taking.
+bool CountUnusableSolve(const SmootherResult& result, int frames, Estimate* estimate) {
+  if (result.usable) return false;
+  estimate->failures["smoother: " + (result.message.empty() ? std::string("no solution")
+                                                            : result.message)] += frames;
+  return true;
+}
+
 void NoteUnconverged(const SmootherResult& result, int max_iterations, Estimate* estimate) {
   if (!result.usable || result.statistics.converged) return;
   estimate->events.push_back(fmt::format(
@@ -786,12 +793,7 @@ Estimate SmootherEstimator::RunFromSeedPoses(const Dataset& dataset,
           : SolveRobustly(dataset, init.keyframes, landmarks, plane, problem_options, graduated);
   RefitImuNoise(dataset, problem_options, &last_result_, &estimate);
   const SmootherResult& result = last_result_;
-  if (!result.usable) {
-    estimate.failures["smoother: " +
-                      (result.message.empty() ? std::string("no solution") : result.message)] +=
-        static_cast<int>(times.size());
-    return estimate;
-  }
+  if (CountUnusableSolve(result, static_cast<int>(times.size()), &estimate)) return estimate;
 
   double D = std::numeric_limits<double>::quiet_NaN(), gamma1 = D, gamma2 = D;
   if (ground && result.landmarks_W.size() >= 2) {

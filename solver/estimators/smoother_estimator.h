@@ -114,6 +114,8 @@ class SmootherEstimator : public Estimator {
   // Camera indices whose tags enter (option `cameras`).
   std::vector<int> CamerasFor(const Dataset& dataset) const;
   bool IsLaserOnly(const Dataset& dataset) const;
+  // The smoother problem's options on feature tracks (smoother_tracks.cc).
+  SmootherProblemOptions TrackProblemOptions(const Dataset& dataset) const;
   // The growing window over the track keyframes `times` from `start` (smoother_tracks.cc); what
   // its stages took is appended to *timing ("sliding window: ...; batch: ..."). Tracks whose
   // reprojection error stays high after a sliding solve are removed from *tracked and listed in

@@ -261,15 +261,84 @@ SmootherResult SmootherEstimator::SolveTracksGrowing(
   }
 }
 
-Estimate SmootherEstimator::RunFromTracks(const Dataset& dataset) {
+namespace {
+
+// The keyframe times of the tracks inside the IMU stream. With a ground truth the first keyframe
+// starts at its state (the gauge of the comparison, as imu-dead-reckoning starts): frames before
+// the truth's first row are left out, and *left_out says so.
+std::vector<TimeNs> TrackKeyframeTimes(const Dataset& dataset, const TrackKeyframeOptions& options,
+                                       std::string* left_out) {
+  if (dataset.imu.samples.empty()) return {};
+  TimeNs t_min = dataset.imu.samples.front().t_ns;
+  const TimeNs t_max = dataset.imu.samples.back().t_ns;
+  const auto& truth = dataset.ground_truth;
+  if (!truth.empty() && truth.front().t_ns > t_min && truth.front().t_ns < t_max &&
+      truth.front().t_ns > dataset.features.front().t_ns) {
+    t_min = truth.front().t_ns;
+    *left_out =
+        fmt::format("the frames before the ground truth's first row ({:.3f} s) are left out; ",
+                    NsToSeconds(t_min - dataset.features.front().t_ns));
+  }
+  return SelectTrackKeyframes(dataset.features, options, t_min, t_max);
+}
+
+// Tracks whose reprojection error stays high after the batch (a wrong match that the loss only
+// down-weights) are removed from *tracked and the batch solved once more from *result; returns
+// how many were removed. The second solve's time is appended to *timing.
+size_t RemoveOutliersAndSolveAgain(const SmootherProblemOptions& options, double outlier_rad,
+                                   Dataset* tracked, SmootherResult* result, std::string* timing) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const std::set<int> outliers = OutlierTracks(*tracked, *result, outlier_rad);
+  if (outliers.empty()) return 0;
+  RemoveTracks(outliers, &tracked->features);
+  RemoveTracks(outliers, &tracked->features1);
+  std::map<int, Eigen::Vector3d> kept = result->landmarks_W;
+  for (int id : outliers) kept.erase(id);
+  // From the batch's solution, relinearized there: no second round.
+  SmootherProblemOptions again_options = options;
+  again_options.relinearize_rounds = 0;
+  SmootherResult again =
+      SolveSmoother(*tracked, result->keyframes, kept, std::nullopt, again_options);
+  if (again.usable) {
+    AddStatistics(result->statistics, &again.statistics);
+    *result = std::move(again);
+  }
+  *timing += fmt::format(
+      "; the batch again without them: {:.1f} s",
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
+  return outliers.size();
+}
+
+// A requested covariance that no keyframe got: the information matrix is rank deficient.
+void NoteMissingCovariance(const SmootherResult& result, const SmootherProblemOptions& options,
+                           Estimate* estimate) {
+  if (!options.compute_covariance ||
+      std::any_of(result.pose_covariances.begin(), result.pose_covariances.end(),
+                  [](const auto& c) { return c.has_value(); }))
+    return;
+  estimate->events.push_back(fmt::format(
+      "no covariance: the information matrix is rank deficient (smallest relative pivot {:.3g}){}",
+      result.statistics.covariance_min_relative_pivot,
+      options.hold_gauge ? "" : "; the gauge prior was removed (gauge_prior=0)"));
+}
+
+}  // namespace
+
+SmootherProblemOptions SmootherEstimator::TrackProblemOptions(const Dataset& dataset) const {
   SmootherProblemOptions problem_options = ProblemOptionsFor(dataset);
   problem_options.landmarks = LandmarkMode::kTracks;
   problem_options.hold_gauge = options_.GetBool("gauge_prior", true);
   problem_options.function_tolerance = kTrackFunctionTolerance;
   problem_options.parameter_tolerance = kTrackFunctionTolerance;
-  const CameraSensor& cam0 = dataset.cameras.front();
   if (!options_.Has("bearing_sigma_deg"))
-    problem_options.bearing_sigma_rad = problem_options.pixel_sigma_px / cam0.model.fu();
+    problem_options.bearing_sigma_rad =
+        problem_options.pixel_sigma_px / dataset.cameras.front().model.fu();
+  return problem_options;
+}
+
+Estimate SmootherEstimator::RunFromTracks(const Dataset& dataset) {
+  SmootherProblemOptions problem_options = TrackProblemOptions(dataset);
+  const CameraSensor& cam0 = dataset.cameras.front();
   std::vector<std::string> names = PoseQuantityNames(true);
   names.insert(names.end(), {"bgx", "bgy", "bgz", "bax", "bay", "baz"});
   std::vector<std::string> units;
@@ -281,23 +350,8 @@ Estimate SmootherEstimator::RunFromTracks(const Dataset& dataset) {
   keyframe_options.focal_px = cam0.model.fu();
   keyframe_options.min_parallax_px = options_.GetDouble("keyframe_parallax_px", 10.0);
   keyframe_options.max_interval_s = options_.GetDouble("keyframe_max_interval_s", 0.5);
-  // With a ground truth the first keyframe starts at its state (the gauge of the comparison, as
-  // imu-dead-reckoning starts): frames before the truth's first row are left out.
-  std::vector<TimeNs> times;
   std::string left_out;
-  if (!dataset.imu.samples.empty()) {
-    TimeNs t_min = dataset.imu.samples.front().t_ns;
-    const TimeNs t_max = dataset.imu.samples.back().t_ns;
-    const auto& truth = dataset.ground_truth;
-    if (!truth.empty() && truth.front().t_ns > t_min && truth.front().t_ns < t_max &&
-        truth.front().t_ns > dataset.features.front().t_ns) {
-      t_min = truth.front().t_ns;
-      left_out =
-          fmt::format("the frames before the ground truth's first row ({:.3f} s) are left out; ",
-                      NsToSeconds(t_min - dataset.features.front().t_ns));
-    }
-    times = SelectTrackKeyframes(dataset.features, keyframe_options, t_min, t_max);
-  }
+  const std::vector<TimeNs> times = TrackKeyframeTimes(dataset, keyframe_options, &left_out);
   if (times.size() < 2) {
     estimate.CountFailure("fewer than 2 keyframes with feature tracks inside the IMU stream");
     last_result_ = SmootherResult{};
@@ -317,7 +371,7 @@ Estimate SmootherEstimator::RunFromTracks(const Dataset& dataset) {
       "rest (zero-velocity prior); {}{}; "
       "gauge: the first keyframe's position and yaw are held there by a prior (4 DoF, "
       "unobservable with unknown landmarks)",
-      times.size(), dataset.cameras.front().frames.size(), keyframe_options.min_parallax_px,
+      times.size(), cam0.frames.size(), keyframe_options.min_parallax_px,
       keyframe_options.max_interval_s, problem_options.zero_velocity_times.size(), left_out,
       start_how));
 
@@ -325,59 +379,26 @@ Estimate SmootherEstimator::RunFromTracks(const Dataset& dataset) {
   std::set<int> removed_sliding;
   last_result_ =
       SolveTracksGrowing(&tracked, times, start, problem_options, &timing, &removed_sliding);
-  const auto t_outliers = std::chrono::steady_clock::now();
-  // Tracks whose reprojection error stays high after the solve (a wrong match that the loss only
-  // down-weights) are removed and the batch solved once more from the solution.
   const double outlier_px = options_.GetDouble("track_outlier_px", kDefaultTrackOutlierPx);
   if (last_result_.usable) {
-    const std::set<int> outliers =
-        OutlierTracks(tracked, last_result_, outlier_px / cam0.model.fu());
-    if (!outliers.empty()) {
-      RemoveTracks(outliers, &tracked.features);
-      RemoveTracks(outliers, &tracked.features1);
-      std::map<int, Eigen::Vector3d> kept = last_result_.landmarks_W;
-      for (int id : outliers) kept.erase(id);
-      // From the batch's solution, relinearized there: no second round.
-      SmootherProblemOptions again_options = problem_options;
-      again_options.relinearize_rounds = 0;
-      SmootherResult again =
-          SolveSmoother(tracked, last_result_.keyframes, kept, std::nullopt, again_options);
-      if (again.usable) {
-        AddStatistics(last_result_.statistics, &again.statistics);
-        last_result_ = std::move(again);
-      }
-      timing += fmt::format(
-          "; the batch again without them: {:.1f} s",
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t_outliers).count());
-    }
-    const size_t removed = removed_sliding.size() + outliers.size();
+    const size_t after_batch = RemoveOutliersAndSolveAgain(
+        problem_options, outlier_px / cam0.model.fu(), &tracked, &last_result_, &timing);
+    const size_t removed = removed_sliding.size() + after_batch;
     if (removed > 0)
       estimate.events.push_back(fmt::format(
           "removed {} of {} tracks whose reprojection error stayed above {:g} px after a solve ({} "
           "after a sliding-window solve, {} after the batch)",
           removed, last_result_.landmarks_W.size() + removed, outlier_px, removed_sliding.size(),
-          outliers.size()));
+          after_batch));
   }
   if (!timing.empty()) estimate.events.push_back(timing);
   RefitImuNoise(dataset, problem_options, &last_result_, &estimate);
   const SmootherResult& result = last_result_;
-  if (!result.usable) {
-    estimate.failures["smoother: " +
-                      (result.message.empty() ? std::string("no solution") : result.message)] +=
-        static_cast<int>(times.size());
-    return estimate;
-  }
+  if (CountUnusableSolve(result, static_cast<int>(times.size()), &estimate)) return estimate;
   estimate.parameters["tracks"] = {static_cast<double>(result.landmarks_W.size()), std::nullopt,
                                    ""};
   if (problem_options.compute_covariance) estimate.covariance_names = PoseQuantityNames(false);
-  if (problem_options.compute_covariance &&
-      std::none_of(result.pose_covariances.begin(), result.pose_covariances.end(),
-                   [](const auto& c) { return c.has_value(); }))
-    estimate.events.push_back(fmt::format(
-        "no covariance: the information matrix is rank deficient (smallest relative pivot "
-        "{:.3g}){}",
-        result.statistics.covariance_min_relative_pivot,
-        problem_options.hold_gauge ? "" : "; the gauge prior was removed (gauge_prior=0)"));
+  NoteMissingCovariance(result, problem_options, &estimate);
   AppendKeyframeStates(result, &estimate);
   NoteUnconverged(result, problem_options.max_iterations, &estimate);
   return estimate;
