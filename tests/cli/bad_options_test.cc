@@ -251,6 +251,22 @@ std::vector<Case> Cases() {
     cases.push_back({"repro smoother --runs 1 --set scenarios=euroc-laser --set euroc_data=" +
                          euroc + " --set euroc_imu_noise_scale=-2 --report r",
                      {"imu_noise_scale"}});
+    // euroc-vision's settings: refused before anything is rendered or written.
+    const std::string vision =
+        "simulate --scenario euroc-vision --render --out out --set data=" + euroc;
+    cases.push_back({vision + " --set cameras=three", {"cameras", "stereo or mono"}});
+    cases.push_back({vision + " --set imu=simulated", {"imu", "from_ground_truth"}});
+    cases.push_back({vision + " --set image_scale=5", {"image_scale", "[0.1, 1]"}});
+    cases.push_back({vision + " --set texel_m=1", {"texel_m"}});
+    cases.push_back({vision + " --set camera_rate_hz=0", {"camera_rate_hz"}});
+    cases.push_back(
+        {vision + " --set textures=" + euroc + "/no_such_folder", {"no_such_folder", "textures"}});
+    cases.push_back(
+        {"compare --scenario euroc-vision --set data=" + euroc + " --set cameras=three --report r",
+         {"cameras", "stereo or mono"}});
+    cases.push_back({"compare --scenario euroc-vision --set data=" + euroc +
+                         " --option smoother:track_window_s=-1 --report r",
+                     {"track_window_s"}});
   }
   return cases;
 }
